@@ -1,0 +1,132 @@
+#pragma once
+/// \file tracer.h
+/// The public face of the per-ray adaptive tracer: an AdaptiveSurface built
+/// once from a Mesh, then intersected by any number of threads at once.
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "subdivtrace/mesh.h"
+#include "subdivtrace/scheme.h"
+
+namespace subdivtrace {
+
+/// Hard cap on max_level: 4^16 triangles per base triangle is already far past
+/// double precision's use for any mesh we can load.
+constexpr int k_max_level_cap = 16;
+
+/// How the image samples the scene: the footprint rule of DESIGN.md section 5.
+struct View {
+    /// Angle of one pixel in radians (perspective: fov / image width).
+    double pixel_angle = 1e-3;
+    /// Camera position in the surface's object space.
+    Vec3 camera{0.0};
+    /// Orthographic cameras have a constant footprint instead.
+    bool orthographic = false;
+    double pixel_size = 0.0;  ///< world units per pixel, orthographic only
+};
+
+struct SurfaceOptions {
+    SchemeKind scheme = SchemeKind::normal;
+    /// Refine while an edge is longer than tolerance * the ray's footprint (pixels).
+    double tolerance = 1.0;
+    /// Deepest level any ray may refine to (0 = the base mesh).
+    int max_level = 8;
+    /// Byte budget of the node cache, shared by all threads.
+    std::size_t cache_mb = 512;
+    View view;
+};
+
+/// A ray in the surface's object space. direction need not be unit length;
+/// distances t are in units of |direction|.
+struct Ray {
+    Vec3 origin{0.0};
+    Vec3 direction{0.0, 0.0, 1.0};
+    double t_min = 0.0;
+    double t_max = 1e300;
+    /// Distance the light travelled from the camera to origin (D in DESIGN
+    /// section 5). Negative = use |origin - view.camera|.
+    double origin_distance = -1.0;
+};
+
+struct Hit {
+    double t = 0.0;            ///< ray parameter of the hit
+    Vec3 point{0.0};
+    Vec3 normal{0.0};          ///< smooth (interpolated Gouraud) unit normal
+    Vec3 geometric_normal{0.0};///< unit normal of the leaf triangle drawn
+    Vec2 uv{0.0};              ///< from the base mesh's UVs (0,0 without UVs)
+    int level = 0;             ///< subdivision level of the leaf that was hit
+    std::uint32_t base_face = 0;
+    /// Upper bound on how far `point` may lie from the exact ray/leaf hit and
+    /// from the surface a neighbouring ray may see; offset secondary rays by it.
+    double error_bound = 0.0;
+};
+
+/// Work counters; the surface keeps running totals, a caller may keep its own.
+struct TraceCounters {
+    std::uint64_t rays = 0;
+    std::uint64_t nodes_visited = 0;
+    std::uint64_t leaves_tested = 0;
+    std::uint64_t cache_hits = 0;
+    std::uint64_t cache_misses = 0;
+    int deepest_level = 0;
+    void add(const TraceCounters& o);
+};
+
+struct SurfaceStats {
+    TraceCounters trace;
+    std::uint64_t nodes_built = 0;
+    std::uint64_t cache_evictions = 0;
+    std::size_t cache_bytes = 0;
+    std::size_t cache_peak_bytes = 0;
+    std::vector<std::uint64_t> leaf_level_histogram;  ///< index = level
+};
+
+class SurfaceImpl;
+
+/// The adaptively subdivided surface. Thread-safe: every const method may be
+/// called by many threads at once; they share one node cache.
+class AdaptiveSurface {
+public:
+    /// Validates options (throws std::invalid_argument with the reason) and
+    /// builds the base topology and top-level BVH.
+    AdaptiveSurface(Mesh mesh, const SurfaceOptions& options);
+    ~AdaptiveSurface();
+    AdaptiveSurface(const AdaptiveSurface&) = delete;
+    AdaptiveSurface& operator=(const AdaptiveSurface&) = delete;
+
+    /// Nearest hit with t in (ray.t_min, ray.t_max); false if none.
+    bool intersect(const Ray& ray, Hit& hit, TraceCounters* counters = nullptr) const;
+
+    /// Every crossing along the ray in (t_min, t_max), sorted by t, each surface
+    /// crossing reported once (for CSG).
+    void intersect_all(const Ray& ray, std::vector<Hit>& hits,
+                       TraceCounters* counters = nullptr) const;
+
+    /// Inside test for closed meshes (parity of crossings along a fixed ray
+    /// through the surface seen at the view's resolution). For open meshes the
+    /// answer is the same parity rule, which is only meaningful near closed parts.
+    bool inside(const Vec3& point) const;
+
+    /// Conservative bounds of the surface at every level up to max_level.
+    Bounds3 bounds() const;
+    /// True if every edge of the base mesh has exactly two triangles.
+    bool is_closed() const;
+
+    const SurfaceOptions& options() const;
+    /// Replaces the view (e.g. after the object was transformed). Not thread-safe
+    /// against concurrent intersect calls; call before rendering starts.
+    void set_view(const View& view);
+
+    SurfaceStats stats() const;
+    /// Number of triangles of uniform subdivision at `level`.
+    std::uint64_t uniform_triangle_count(int level) const;
+
+private:
+    std::unique_ptr<SurfaceImpl> impl_;
+};
+
+}  // namespace subdivtrace
