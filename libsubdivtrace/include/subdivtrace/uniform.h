@@ -1,0 +1,46 @@
+#pragma once
+/// \file uniform.h
+/// Uniform subdivision: every triangle split 1-to-4, `levels` times. The
+/// reference the adaptive hierarchy must equal, and the baseline it is timed
+/// against.
+
+#include <cstdint>
+#include <vector>
+
+#include "subdivtrace/mesh.h"
+#include "subdivtrace/scheme.h"
+
+namespace subdivtrace {
+
+/// A uniformly subdivided mesh. Triangle t of level k has children
+/// 4t .. 4t+3 at level k+1, with corners (for parent corners A, B, C and edge
+/// points mAB, mBC, mCA): (A, mAB, mCA), (mAB, B, mBC), (mCA, mBC, C),
+/// (mAB, mBC, mCA). So triangle t comes from base triangle t / 4^levels.
+struct SubdividedMesh {
+    int levels = 0;
+    std::vector<Vec3> positions;
+    std::vector<Triangle> triangles;
+    /// Per-vertex Gouraud (angle-weighted) normals of the final level; for
+    /// levels == 0 and a mesh with its own normals, see corner_normals.
+    std::vector<Vec3> vertex_normals;
+    /// The base mesh's per-corner normals carried to every level (empty if the
+    /// mesh had none). Only meaningful at level 0; deeper levels use
+    /// vertex_normals (the scheme recomputes normals, DESIGN section 3).
+    std::vector<Vec3> corner_normals;
+    /// Per-corner UVs, interpolated from the base triangle's corner UVs
+    /// (empty if the mesh had none).
+    std::vector<Vec2> corner_uvs;
+    /// Base triangle of each triangle.
+    std::vector<std::uint32_t> base_face;
+};
+
+/// Subdivides `mesh` uniformly. levels >= 0; throws std::invalid_argument if
+/// levels exceeds k_max_uniform_levels or the result would not fit in 32-bit indices.
+SubdividedMesh subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels);
+
+constexpr int k_max_uniform_levels = 10;
+
+/// Converts back to a plain Mesh (corner normals from vertex_normals).
+Mesh to_mesh(const SubdividedMesh& sub);
+
+}  // namespace subdivtrace
