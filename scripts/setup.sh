@@ -8,6 +8,8 @@ packages=(
     g++ cmake make ccache pkg-config
     # libsubdivtrace
     libopenmesh-dev libglm-dev libopenimageio-dev
+    # OpenImageIO's CMake config refers to its tools (Debian bug), and idiff is handy
+    openimageio-tools
     # tests and benchmarks
     catch2 libbenchmark-dev
     # stock POV-Ray (reference renders of exported mesh2) and the patched build

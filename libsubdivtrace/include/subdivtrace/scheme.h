@@ -48,19 +48,29 @@ struct VertexRing {
 /// boundary (q_first + 6p + q_last)/8; corners (irregular) stay.
 Vec3 loop_vertex_point(const VertexRing& ring);
 
-/// Everything an edge rule may read, at the coarser level.
-/// ring_a is the ring of endpoint a, with b at index_b_in_a, and ring_b the
-/// ring of b with a at index_a_in_b. `interior` says whether the edge has two
-/// triangles (both rings then hold the two opposite vertices).
+/// Everything an edge rule may read about edge (a, b) at the coarser level.
 struct EdgeStencil {
+    Vec3 a{0.0};
+    Vec3 b{0.0};
+    Vec3 normal_a{0.0};  ///< Gouraud normals (normal scheme only)
+    Vec3 normal_b{0.0};
+    /// True if the edge has exactly two triangles; then c and d are their
+    /// third vertices (c in the triangle that runs a -> b).
+    bool interior = false;
+    Vec3 c{0.0};
+    Vec3 d{0.0};
+    /// Rings of the endpoints (Butterfly's wings and extraordinary stencils);
+    /// b is ring_a->nbrs[index_b_in_a] and a is ring_b->nbrs[index_a_in_b].
     const VertexRing* ring_a = nullptr;
     const VertexRing* ring_b = nullptr;
-    std::size_t index_b_in_a = 0;  ///< position of b in ring_a.nbrs (0 when closed)
-    std::size_t index_a_in_b = 0;  ///< position of a in ring_b.nbrs (0 when closed)
-    Vec3 normal_a{0.0};
-    Vec3 normal_b{0.0};
-    bool interior = true;
+    std::size_t index_b_in_a = 0;
+    std::size_t index_a_in_b = 0;
 };
+
+/// One scheme's new point on an edge (dispatches on kind).
+Vec3 edge_point(SchemeKind kind, const EdgeStencil& s);
+/// One scheme's new position of an old vertex (dispatches on kind).
+Vec3 vertex_point(SchemeKind kind, const VertexRing& ring);
 
 /// The new point on edge (a, b) for each scheme.
 Vec3 normal_edge_point(const Vec3& a, const Vec3& b, const Vec3& na, const Vec3& nb);

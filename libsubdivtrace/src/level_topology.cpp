@@ -1,0 +1,114 @@
+#include "level_topology.h"
+
+#include <algorithm>
+#include <tuple>
+
+#include "ring_order.h"
+
+namespace subdivtrace {
+
+LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
+                             const std::vector<Triangle>& triangles) {
+    const std::size_t vertex_count = positions.size();
+    const std::size_t face_count = triangles.size();
+
+    // Edges: sort (min, max, corner slot) and give each distinct pair an id.
+    struct Slot {
+        std::uint32_t lo, hi;
+        std::uint32_t face;
+        std::uint8_t corner;
+    };
+    std::vector<Slot> slots;
+    slots.reserve(3 * face_count);
+    for (std::uint32_t t = 0; t < face_count; ++t) {
+        for (std::uint8_t i = 0; i < 3; ++i) {
+            const std::uint32_t u = triangles[t][i], w = triangles[t][(i + 1) % 3];
+            slots.push_back({std::min(u, w), std::max(u, w), t, i});
+        }
+    }
+    std::sort(slots.begin(), slots.end(), [](const Slot& x, const Slot& y) {
+        return std::tie(x.lo, x.hi, x.face, x.corner) < std::tie(y.lo, y.hi, y.face, y.corner);
+    });
+    face_edges_.assign(3 * face_count, 0);
+    for (std::size_t i = 0; i < slots.size();) {
+        std::size_t j = i;
+        while (j < slots.size() && slots[j].lo == slots[i].lo && slots[j].hi == slots[i].hi) ++j;
+        Edge e;
+        const Triangle& first = triangles[slots[i].face];
+        e.a = first[slots[i].corner];
+        e.b = first[(slots[i].corner + 1) % 3];
+        e.c = first[(slots[i].corner + 2) % 3];
+        e.face_count = static_cast<std::uint32_t>(j - i);
+        e.interior = e.face_count == 2;
+        if (e.interior) {
+            const Triangle& second = triangles[slots[i + 1].face];
+            e.d = second[(slots[i + 1].corner + 2) % 3];
+        }
+        const std::uint32_t id = static_cast<std::uint32_t>(edges_.size());
+        for (std::size_t k = i; k < j; ++k) face_edges_[3 * slots[k].face + slots[k].corner] = id;
+        edges_.push_back(e);
+        i = j;
+    }
+
+    // Rings: incident triangles per vertex (CSR), then chained into fans.
+    std::vector<std::size_t> inc_offsets(vertex_count + 1, 0);
+    for (const Triangle& t : triangles)
+        for (std::uint32_t v : t) ++inc_offsets[v + 1];
+    for (std::size_t v = 0; v < vertex_count; ++v) inc_offsets[v + 1] += inc_offsets[v];
+    std::vector<std::uint32_t> incident(inc_offsets.back());
+    std::vector<std::size_t> fill(inc_offsets.begin(), inc_offsets.end() - 1);
+    for (std::uint32_t t = 0; t < face_count; ++t)
+        for (std::uint32_t v : triangles[t]) incident[fill[v]++] = t;
+
+    ring_offsets_.assign(vertex_count + 1, 0);
+    ring_closed_.assign(vertex_count, 0);
+    ring_regular_.assign(vertex_count, 0);
+    ring_nbrs_.reserve(3 * face_count);
+    std::vector<detail::FanPair<std::uint32_t>> pairs;
+    detail::OrderedRing<std::uint32_t> ordered;
+    const auto eq = [](std::uint32_t x, std::uint32_t y) { return x == y; };
+    for (std::uint32_t v = 0; v < vertex_count; ++v) {
+        pairs.clear();
+        for (std::size_t k = inc_offsets[v]; k < inc_offsets[v + 1]; ++k) {
+            const Triangle& t = triangles[incident[k]];
+            const int i = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+            pairs.push_back({t[(i + 1) % 3], t[(i + 2) % 3]});
+        }
+        detail::order_ring(pairs, ordered, eq);
+        ring_nbrs_.insert(ring_nbrs_.end(), ordered.nbrs.begin(), ordered.nbrs.end());
+        ring_offsets_[v + 1] = ring_nbrs_.size();
+        ring_closed_[v] = ordered.closed;
+        ring_regular_[v] = ordered.regular;
+    }
+}
+
+void LevelTopology::fill_ring(std::uint32_t v, const std::vector<Vec3>& positions,
+                              VertexRing& ring) const {
+    ring.center = positions[v];
+    ring.closed = ring_closed_[v] != 0;
+    ring.regular = ring_regular_[v] != 0;
+    ring.nbrs.clear();
+    for (std::size_t k = ring_offsets_[v]; k < ring_offsets_[v + 1]; ++k)
+        ring.nbrs.push_back(positions[ring_nbrs_[k]]);
+}
+
+std::size_t LevelTopology::ring_index(std::uint32_t v, std::uint32_t w) const {
+    for (std::size_t k = ring_offsets_[v]; k < ring_offsets_[v + 1]; ++k)
+        if (ring_nbrs_[k] == w) return k - ring_offsets_[v];
+    return 0;
+}
+
+std::vector<Vec3> gouraud_normals(const std::vector<Vec3>& positions,
+                                  const std::vector<Triangle>& triangles) {
+    std::vector<Vec3> sums(positions.size(), Vec3(0.0));
+    for (const Triangle& t : triangles) {
+        for (int i = 0; i < 3; ++i) {
+            sums[t[i]] += angle_weighted_normal(positions[t[i]], positions[t[(i + 1) % 3]],
+                                                positions[t[(i + 2) % 3]]);
+        }
+    }
+    for (Vec3& n : sums) n = finish_normal(n);
+    return sums;
+}
+
+}  // namespace subdivtrace

@@ -1,0 +1,192 @@
+// Stencils of the three schemes. Weights follow the sources named in scheme.h;
+// Loop and Butterfly are written to match OpenMesh 9's LoopT and
+// ModifiedButterflyT on closed meshes (tests/unit/test_schemes.cpp holds us to it).
+#include "subdivtrace/scheme.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace subdivtrace {
+
+namespace {
+
+constexpr double k_pi = 3.14159265358979323846;
+
+/// Neighbour `offset` steps counter-clockwise from index `from` in a ring, or
+/// nullptr when an open fan ends before that.
+const Vec3* ring_step(const VertexRing& ring, std::size_t from, long offset) {
+    const long n = static_cast<long>(ring.nbrs.size());
+    if (n == 0 || !ring.regular) return nullptr;
+    long i = static_cast<long>(from) + offset;
+    if (ring.closed) {
+        i = ((i % n) + n) % n;
+    } else if (i < 0 || i >= n) {
+        return nullptr;
+    }
+    return &ring.nbrs[static_cast<std::size_t>(i)];
+}
+
+bool is_boundary_like(const VertexRing* ring) {
+    return ring == nullptr || !ring->regular || !ring->closed;
+}
+
+std::size_t valence(const VertexRing* ring) { return ring ? ring->nbrs.size() : 0; }
+
+/// Zorin's weights for an extraordinary interior vertex of valence k: s_j for
+/// the neighbour j steps from the edge's other end, and the centre's weight.
+double butterfly_weight(std::size_t k, std::size_t j) {
+    if (k == 3) return j == 0 ? 5.0 / 12.0 : -1.0 / 12.0;
+    if (k == 4) return j == 0 ? 3.0 / 8.0 : (j == 2 ? -1.0 / 8.0 : 0.0);
+    const double inv_k = 1.0 / static_cast<double>(k);
+    const double x = 2.0 * k_pi * static_cast<double>(j) * inv_k;
+    return (0.25 + std::cos(x) + 0.5 * std::cos(2.0 * x)) * inv_k;
+}
+
+/// The extraordinary-vertex stencil of Zorin et al. around `center`, starting
+/// at the edge's other endpoint (index `start`).
+Vec3 butterfly_extraordinary(const VertexRing& ring, std::size_t start) {
+    const std::size_t k = ring.nbrs.size();
+    Vec3 sum(0.0);
+    double weight_sum = 0.0;
+    for (std::size_t j = 0; j < k; ++j) {
+        const double w = butterfly_weight(k, j);
+        sum += w * ring.nbrs[(start + j) % k];
+        weight_sum += w;
+    }
+    return sum + (1.0 - weight_sum) * ring.center;
+}
+
+/// The wing across edge (x, y) of triangle (x, y, z): the ring's vertex if
+/// there is one, else z mirrored through the edge's midpoint (as OpenMesh does).
+Vec3 wing_or_mirror(const Vec3* wing, const Vec3& x, const Vec3& y, const Vec3& z) {
+    return wing ? *wing : x + y - z;
+}
+
+}  // namespace
+
+std::optional<SchemeKind> parse_scheme(const std::string& name) {
+    if (name == "normal") return SchemeKind::normal;
+    if (name == "loop") return SchemeKind::loop;
+    if (name == "butterfly") return SchemeKind::butterfly;
+    return std::nullopt;
+}
+
+const char* scheme_name(SchemeKind kind) {
+    switch (kind) {
+        case SchemeKind::normal: return "normal";
+        case SchemeKind::loop: return "loop";
+        case SchemeKind::butterfly: return "butterfly";
+    }
+    return "?";
+}
+
+Vec3 loop_vertex_point(const VertexRing& ring) {
+    const std::size_t n = ring.nbrs.size();
+    if (!ring.regular || n < 2) return ring.center;  // corners stay
+    if (!ring.closed) {
+        // Boundary: the cubic B-spline rule along the boundary curve (1-6-1).
+        return (ring.center * 6.0 + ring.nbrs.front() + ring.nbrs.back()) * (1.0 / 8.0);
+    }
+    const double inv_n = 1.0 / static_cast<double>(n);
+    const double t = 3.0 + 2.0 * std::cos(2.0 * k_pi * inv_n);
+    const double alpha = (40.0 - t * t) / 64.0;
+    Vec3 sum(0.0);
+    for (const Vec3& q : ring.nbrs) sum += q;
+    return sum * (inv_n * alpha) + (1.0 - alpha) * ring.center;
+}
+
+Vec3 normal_edge_point(const Vec3& a, const Vec3& b, const Vec3& na, const Vec3& nb) {
+    // Midpoint of the cubic whose end tangents are the edge projected into each
+    // endpoint's tangent plane (DESIGN.md section 3, our reconstruction of the
+    // paper's reference [8]).
+    const Vec3 d = b - a;
+    return (a + b) * 0.5 + (glm::dot(d, nb) * nb - glm::dot(d, na) * na) * (1.0 / 8.0);
+}
+
+Vec3 loop_edge_point(const EdgeStencil& s) {
+    if (!s.interior) return (s.a + s.b) * 0.5;
+    return ((s.a + s.b) * 3.0 + s.c + s.d) * (1.0 / 8.0);
+}
+
+Vec3 butterfly_edge_point(const EdgeStencil& s) {
+    const VertexRing* ra = s.ring_a;
+    const VertexRing* rb = s.ring_b;
+    if (!s.interior) {
+        // Boundary (or non-manifold) edge: the 4-point curve rule, using each
+        // endpoint's other boundary neighbour; straight where there is none.
+        const bool a_ok = ra && ra->regular && !ra->closed && ra->nbrs.size() >= 2;
+        const bool b_ok = rb && rb->regular && !rb->closed && rb->nbrs.size() >= 2;
+        if (!a_ok || !b_ok) return (s.a + s.b) * 0.5;
+        const Vec3& a_far = s.index_b_in_a == 0 ? ra->nbrs.back() : ra->nbrs.front();
+        const Vec3& b_far = s.index_a_in_b == 0 ? rb->nbrs.back() : rb->nbrs.front();
+        return (s.a + s.b) * (9.0 / 16.0) + (a_far + b_far) * (-1.0 / 16.0);
+    }
+
+    const std::size_t va = valence(ra);
+    const std::size_t vb = valence(rb);
+    const bool a_boundary = is_boundary_like(ra);
+    const bool b_boundary = is_boundary_like(rb);
+    const bool a_extraordinary = !a_boundary && va != 6 && va >= 3;
+    const bool b_extraordinary = !b_boundary && vb != 6 && vb >= 3;
+
+    if (!a_extraordinary && !b_extraordinary) {
+        // Regular case: the 8-point butterfly (1/2, 1/8, -1/16).
+        const Vec3* w_ac = ra ? ring_step(*ra, s.index_b_in_a, 2) : nullptr;
+        const Vec3* w_ad = ra ? ring_step(*ra, s.index_b_in_a, -2) : nullptr;
+        const Vec3* w_bd = rb ? ring_step(*rb, s.index_a_in_b, 2) : nullptr;
+        const Vec3* w_bc = rb ? ring_step(*rb, s.index_a_in_b, -2) : nullptr;
+        const Vec3 wings = wing_or_mirror(w_bc, s.b, s.c, s.a) +
+                           wing_or_mirror(w_ac, s.a, s.c, s.b) +
+                           wing_or_mirror(w_bd, s.b, s.d, s.a) +
+                           wing_or_mirror(w_ad, s.a, s.d, s.b);
+        return (s.a + s.b) * 0.5 + (s.c + s.d) * (1.0 / 8.0) + wings * (-1.0 / 16.0);
+    }
+
+    // At least one extraordinary interior endpoint: its stencil, averaged over
+    // both when both are extraordinary.
+    Vec3 sum(0.0);
+    double count = 0.0;
+    if (a_extraordinary) {
+        sum += butterfly_extraordinary(*ra, s.index_b_in_a);
+        count += 1.0;
+    }
+    if (b_extraordinary) {
+        sum += butterfly_extraordinary(*rb, s.index_a_in_b);
+        count += 1.0;
+    }
+    return sum / count;
+}
+
+Vec3 edge_point(SchemeKind kind, const EdgeStencil& s) {
+    switch (kind) {
+        case SchemeKind::normal: return normal_edge_point(s.a, s.b, s.normal_a, s.normal_b);
+        case SchemeKind::loop: return loop_edge_point(s);
+        case SchemeKind::butterfly: return butterfly_edge_point(s);
+    }
+    return (s.a + s.b) * 0.5;
+}
+
+Vec3 vertex_point(SchemeKind kind, const VertexRing& ring) {
+    return kind == SchemeKind::loop ? loop_vertex_point(ring) : ring.center;
+}
+
+Vec3 angle_weighted_normal(const Vec3& p, const Vec3& q, const Vec3& r) {
+    const Vec3 e1 = q - p;
+    const Vec3 e2 = r - p;
+    const Vec3 n = glm::cross(e1, e2);
+    const double len = glm::length(n);
+    if (!(len > 0.0) || !std::isfinite(len)) return Vec3(0.0);
+    // atan2 of |cross| and dot is accurate for tiny and near-straight angles,
+    // where acos of a normalised dot is not.
+    const double angle = std::atan2(len, glm::dot(e1, e2));
+    return n * (angle / len);
+}
+
+Vec3 finish_normal(const Vec3& sum) {
+    const double len = glm::length(sum);
+    if (!(len > 0.0) || !std::isfinite(len)) return Vec3(0.0);
+    return sum / len;
+}
+
+}  // namespace subdivtrace
