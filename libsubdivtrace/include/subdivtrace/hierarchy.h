@@ -1,0 +1,102 @@
+#pragma once
+/// \file hierarchy.h
+/// The lazy subdivision hierarchy (paper eqs. 4, 7-8): any triangle of any
+/// uniform level, built on demand from the few coarser vertices it depends on,
+/// cached under a byte budget, shared by threads.
+///
+/// Adaptive == uniform by construction of the addressing: a node is a triangle
+/// of the uniform level-L mesh, named by its base triangle and grid position,
+/// and its vertices are evaluated with the same stencils as subdivide_uniform.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "subdivtrace/mesh.h"
+#include "subdivtrace/scheme.h"
+#include "subdivtrace/shell.h"
+
+namespace subdivtrace {
+
+/// A triangle of the uniform level-`level` mesh inside base triangle `face`.
+/// Grid triangle (i, j) of resolution 2^level: "up" has corners (i,j) (i+1,j)
+/// (i,j+1), "down" has (i+1,j) (i+1,j+1) (i,j+1) (weights on the base
+/// triangle's corners 1 and 2, in units of 2^-level).
+struct NodeId {
+    std::uint32_t face = 0;
+    std::uint8_t level = 0;
+    bool down = false;
+    std::uint32_t i = 0;
+    std::uint32_t j = 0;
+
+    bool operator==(const NodeId& o) const {
+        return face == o.face && level == o.level && down == o.down && i == o.i && j == o.j;
+    }
+};
+
+/// Which corner of a child is which point of its parent: corner k of child c
+/// is parent corner `index` (is_edge false) or the midpoint of parent edge
+/// `index` (is_edge true; edge e runs from corner e to corner (e+1)%3).
+struct ChildCorner {
+    bool is_edge;
+    std::uint8_t index;
+};
+const std::array<ChildCorner, 3>& child_corners(bool parent_down, int child);
+
+/// Child c (0..3) of a node; children of a node cover it exactly, in the
+/// order subdivide_uniform uses (uniform.h).
+NodeId child_of(const NodeId& node, int child);
+
+/// Grid coordinates (i, j) of a node's corners at its level.
+std::array<std::array<std::uint32_t, 2>, 3> node_corner_grid(const NodeId& node);
+
+/// What the tracer needs of a node.
+struct NodeRecord {
+    std::array<Vec3, 3> position;       ///< level-L positions (decisions, shells)
+    std::array<Vec3, 3> normal;         ///< level-L Gouraud normals
+    std::array<Vec3, 3> draw_position;  ///< where the corner is drawn (Loop: limit point)
+    Shell shell;                        ///< bounds every descendant to max_level
+};
+
+struct HierarchyCounters {
+    std::uint64_t nodes_built = 0;
+    std::uint64_t node_hits = 0;
+    std::uint64_t node_misses = 0;
+    std::uint64_t vertex_hits = 0;
+    std::uint64_t vertex_misses = 0;
+    std::uint64_t evictions = 0;
+    std::size_t bytes = 0;
+    std::size_t peak_bytes = 0;
+};
+
+class HierarchyImpl;
+
+class Hierarchy {
+public:
+    /// `mesh` must outlive the hierarchy and be validated.
+    Hierarchy(const Mesh& mesh, SchemeKind scheme, int max_level, std::size_t cache_bytes,
+              ShellKind shell_kind = ShellKind::aabb_slab);
+    ~Hierarchy();
+
+    SchemeKind scheme() const;
+    int max_level() const;
+    std::size_t face_count() const;
+    bool closed() const;
+
+    static NodeId root(std::uint32_t face) { return NodeId{face, 0, false, 0, 0}; }
+
+    /// The node's record, from the cache or built now. Thread-safe; the result
+    /// does not depend on the cache's contents (evicted entries are rebuilt
+    /// bit-identically).
+    NodeRecord node(const NodeId& id) const;
+
+    /// Level-`level` position of grid point (i, j) of base triangle `face`.
+    Vec3 grid_position(std::uint32_t face, int level, std::uint32_t i, std::uint32_t j) const;
+
+    HierarchyCounters counters() const;
+
+private:
+    std::unique_ptr<HierarchyImpl> impl_;
+};
+
+}  // namespace subdivtrace

@@ -1,0 +1,68 @@
+#pragma once
+/// \file shell.h
+/// Bounding shells B(t) (the paper's open problem 1, DESIGN.md section 4):
+/// a convex volume that holds every descendant of a node up to max_level,
+/// and the conservative ray tests against it.
+
+#include <cmath>
+#include <limits>
+
+#include "subdivtrace/mesh.h"
+
+namespace subdivtrace {
+
+enum class ShellKind {
+    /// Axis-aligned box only.
+    aabb,
+    /// Axis-aligned box intersected with a slab along the node's normal: the
+    /// triangle prism with offsets, clipped by the box.
+    aabb_slab,
+};
+
+/// pbrt's gamma(n) = n eps / (1 - n eps): a bound on the relative rounding
+/// error of n floating-point operations.
+constexpr double gamma_bound(int n) {
+    constexpr double eps = std::numeric_limits<double>::epsilon() * 0.5;
+    return (n * eps) / (1.0 - n * eps);
+}
+
+struct Shell {
+    Vec3 lo{std::numeric_limits<double>::infinity()};
+    Vec3 hi{-std::numeric_limits<double>::infinity()};
+    /// Slab: points p with slab_min <= dot(axis, p) <= slab_max. axis == 0 means none.
+    Vec3 axis{0.0};
+    double slab_min = 0.0;
+    double slab_max = 0.0;
+
+    bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
+    void grow(const Vec3& p);
+    /// Grows the box and the slab to hold p.
+    void grow_both(const Vec3& p);
+    /// Pads box and slab by `margin` in every direction.
+    void pad(double margin);
+    bool contains(const Vec3& p, double slack = 0.0) const;
+    double box_volume() const;
+    /// Volume of box ∩ slab, estimated (exact for axis-aligned slabs).
+    double thickness() const { return slab_max - slab_min; }
+};
+
+/// A ray prepared for many box tests.
+struct RayBoxQuery {
+    Vec3 origin;
+    Vec3 inv_dir;
+    Vec3 dir;
+    double t_min;
+    double t_max;
+};
+
+RayBoxQuery make_ray_box_query(const Vec3& origin, const Vec3& dir, double t_min, double t_max);
+
+/// Conservative slab test (Ize 2013: the far distance is scaled by
+/// 1 + 2 gamma(3), so rounding never drops a ray that grazes a flat box); NaN
+/// never counts as a hit. On a hit, t_entry is where the ray enters the volume.
+bool ray_hits_box(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, double& t_entry);
+
+/// Box and (if present) slab, with the same conservative rounding.
+bool ray_hits_shell(const RayBoxQuery& q, const Shell& shell, ShellKind kind, double& t_entry);
+
+}  // namespace subdivtrace

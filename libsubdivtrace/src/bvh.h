@@ -1,0 +1,78 @@
+#pragma once
+// A binned-SAH bounding volume hierarchy over boxes (Wald 2007, as in pbrt-v4
+// and madmann91/bvh): the top level over base-triangle shells, and the
+// uniform baseline's BVH over its triangles, built with the same care.
+
+#include <cstdint>
+#include <vector>
+
+#include "subdivtrace/shell.h"
+
+namespace subdivtrace::detail {
+
+struct BvhNode {
+    Vec3 lo;
+    Vec3 hi;
+    std::uint32_t first = 0;  ///< first item (leaf) or left child (inner; right = left + 1)
+    std::uint32_t count = 0;  ///< items in a leaf; 0 for inner nodes
+};
+
+class Bvh {
+public:
+    Bvh() = default;
+    /// Builds over the boxes; items are referred to by their index.
+    void build(const std::vector<Vec3>& lo, const std::vector<Vec3>& hi, int max_leaf_size = 4);
+
+    bool empty() const { return nodes_.empty(); }
+    const BvhNode& root() const { return nodes_.front(); }
+    std::size_t node_count() const { return nodes_.size(); }
+    std::size_t memory_bytes() const {
+        return nodes_.capacity() * sizeof(BvhNode) + items_.capacity() * sizeof(std::uint32_t);
+    }
+
+    /// Visits leaves front to back while their box is entered before t_max;
+    /// visit(item) may lower t_max (a closer hit). t_max is read by reference.
+    template <class Visit>
+    void traverse(const RayBoxQuery& query, const double& t_max, Visit visit) const {
+        if (nodes_.empty()) return;
+        std::uint32_t stack[256];  // SAH trees over 1e9 items stay far below this depth
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const BvhNode& node = nodes_[stack[--top]];
+            RayBoxQuery q = query;
+            q.t_max = t_max;
+            double t_entry = 0.0;
+            if (!ray_hits_box(q, node.lo, node.hi, t_entry)) continue;
+            if (node.count > 0) {
+                for (std::uint32_t k = 0; k < node.count; ++k) visit(items_[node.first + k]);
+                continue;
+            }
+            // Near child last on the stack, so it is visited first.
+            const BvhNode& left = nodes_[node.first];
+            const BvhNode& right = nodes_[node.first + 1];
+            double tl = 0.0, tr = 0.0;
+            const bool hl = ray_hits_box(q, left.lo, left.hi, tl);
+            const bool hr = ray_hits_box(q, right.lo, right.hi, tr);
+            if (hl && hr) {
+                if (tl <= tr) {
+                    stack[top++] = node.first + 1;
+                    stack[top++] = node.first;
+                } else {
+                    stack[top++] = node.first;
+                    stack[top++] = node.first + 1;
+                }
+            } else if (hl) {
+                stack[top++] = node.first;
+            } else if (hr) {
+                stack[top++] = node.first + 1;
+            }
+        }
+    }
+
+private:
+    std::vector<BvhNode> nodes_;
+    std::vector<std::uint32_t> items_;
+};
+
+}  // namespace subdivtrace::detail

@@ -1,0 +1,107 @@
+#include "grid.h"
+
+#include <algorithm>
+
+namespace subdivtrace::detail {
+
+namespace {
+
+std::uint64_t pair_key(std::uint32_t lo, std::uint32_t hi) {
+    return (std::uint64_t{lo} << 32) | hi;
+}
+
+}  // namespace
+
+BaseTopology::BaseTopology(const Mesh& mesh) : mesh_(mesh) {
+    vertex_faces_.resize(mesh.positions.size());
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+        const Triangle& t = mesh.triangles[f];
+        for (int c = 0; c < 3; ++c) {
+            vertex_faces_[t[c]].push_back(f);
+            const std::uint32_t u = t[c], w = t[(c + 1) % 3];
+            edge_faces_[pair_key(std::min(u, w), std::max(u, w))].push_back(f);
+        }
+    }
+    for (const auto& entry : edge_faces_) closed_ = closed_ && entry.second.size() == 2;
+}
+
+const std::vector<std::uint32_t>* BaseTopology::faces_of_edge(std::uint32_t lo,
+                                                              std::uint32_t hi) const {
+    auto it = edge_faces_.find(pair_key(lo, hi));
+    return it == edge_faces_.end() ? nullptr : &it->second;
+}
+
+VertexKey BaseTopology::canonical(std::uint32_t face, int level, std::uint32_t i,
+                                  std::uint32_t j) const {
+    std::uint32_t w[3] = {(std::uint32_t{1} << level) - i - j, i, j};
+    // Reduce to the birth level: the coarsest level that has this point.
+    while (level > 0 && (w[0] | w[1] | w[2]) % 2 == 0) {
+        w[0] >>= 1;
+        w[1] >>= 1;
+        w[2] >>= 1;
+        --level;
+    }
+    const Triangle& t = mesh_.triangles[face];
+    VertexKey key;
+    key.level = static_cast<std::uint8_t>(level);
+    const int zeros = (w[0] == 0) + (w[1] == 0) + (w[2] == 0);
+    if (zeros == 2) {
+        key.kind = VertexKey::base_vertex;
+        key.level = 0;
+        key.a = t[w[0] ? 0 : (w[1] ? 1 : 2)];
+        return key;
+    }
+    if (zeros == 1) {
+        // On the base edge between the two corners with weight.
+        const int x = w[0] == 0 ? 1 : 0;
+        const int y = w[2] == 0 ? 1 : 2;
+        const bool x_low = t[x] < t[y];
+        key.kind = VertexKey::edge_point;
+        key.a = x_low ? t[x] : t[y];
+        key.b = x_low ? t[y] : t[x];
+        key.c = x_low ? w[y] : w[x];
+        return key;
+    }
+    key.kind = VertexKey::face_point;
+    key.a = face;
+    key.b = w[1];
+    key.c = w[2];
+    return key;
+}
+
+void BaseTopology::representations(const VertexKey& key, int level,
+                                   std::vector<GridPoint>& out) const {
+    out.clear();
+    const std::uint32_t n = std::uint32_t{1} << level;
+    const int shift = level - key.level;
+    switch (key.kind) {
+        case VertexKey::base_vertex:
+            for (std::uint32_t f : vertex_faces_[key.a]) {
+                const Triangle& t = mesh_.triangles[f];
+                if (t[0] == key.a) out.push_back({f, 0, 0});
+                else if (t[1] == key.a) out.push_back({f, n, 0});
+                else out.push_back({f, 0, n});
+            }
+            break;
+        case VertexKey::edge_point: {
+            const std::vector<std::uint32_t>* faces = faces_of_edge(key.a, key.b);
+            if (!faces) break;
+            const std::uint32_t w_hi = key.c << shift;
+            for (std::uint32_t f : *faces) {
+                const Triangle& t = mesh_.triangles[f];
+                std::uint32_t w[3] = {0, 0, 0};
+                for (int c = 0; c < 3; ++c) {
+                    if (t[c] == key.b) w[c] = w_hi;
+                    else if (t[c] == key.a) w[c] = n - w_hi;
+                }
+                out.push_back({f, w[1], w[2]});
+            }
+            break;
+        }
+        case VertexKey::face_point:
+            out.push_back({key.a, key.b << shift, key.c << shift});
+            break;
+    }
+}
+
+}  // namespace subdivtrace::detail

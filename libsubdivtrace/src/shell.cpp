@@ -1,0 +1,112 @@
+#include "subdivtrace/shell.h"
+
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
+namespace subdivtrace {
+
+void Shell::grow(const Vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+}
+
+void Shell::grow_both(const Vec3& p) {
+    grow(p);
+    if (axis != Vec3(0.0)) {
+        const double d = glm::dot(axis, p);
+        slab_min = std::min(slab_min, d);
+        slab_max = std::max(slab_max, d);
+    }
+}
+
+void Shell::pad(double margin) {
+    lo -= Vec3(margin);
+    hi += Vec3(margin);
+    slab_min -= margin;
+    slab_max += margin;
+}
+
+bool Shell::contains(const Vec3& p, double slack) const {
+    if (p.x < lo.x - slack || p.y < lo.y - slack || p.z < lo.z - slack) return false;
+    if (p.x > hi.x + slack || p.y > hi.y + slack || p.z > hi.z + slack) return false;
+    if (axis != Vec3(0.0)) {
+        const double d = glm::dot(axis, p);
+        if (d < slab_min - slack || d > slab_max + slack) return false;
+    }
+    return true;
+}
+
+double Shell::box_volume() const {
+    if (empty()) return 0.0;
+    const Vec3 e = hi - lo;
+    return e.x * e.y * e.z;
+}
+
+RayBoxQuery make_ray_box_query(const Vec3& origin, const Vec3& dir, double t_min, double t_max) {
+    RayBoxQuery q;
+    q.origin = origin;
+    q.dir = dir;
+    q.inv_dir = Vec3(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z);
+    q.t_min = t_min;
+    q.t_max = t_max;
+    return q;
+}
+
+namespace {
+
+bool box_interval(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, double& t_near,
+                  double& t_far) {
+    t_near = q.t_min;
+    t_far = q.t_max;
+    for (int a = 0; a < 3; ++a) {
+        double t0 = (lo[a] - q.origin[a]) * q.inv_dir[a];
+        double t1 = (hi[a] - q.origin[a]) * q.inv_dir[a];
+        if (t0 > t1) std::swap(t0, t1);
+        t1 *= 1.0 + 2.0 * gamma_bound(3);
+        // Written so that a NaN (0 * inf on a face the ray lies in) leaves the
+        // interval unchanged instead of rejecting the ray.
+        t_near = t0 > t_near ? t0 : t_near;
+        t_far = t1 < t_far ? t1 : t_far;
+        if (t_near > t_far) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+bool ray_hits_box(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, double& t_entry) {
+    double t_far = 0.0;
+    return box_interval(q, lo, hi, t_entry, t_far);
+}
+
+bool ray_hits_shell(const RayBoxQuery& q, const Shell& shell, ShellKind kind, double& t_entry) {
+    double t_near = 0.0;
+    double t_far = 0.0;
+    if (!box_interval(q, shell.lo, shell.hi, t_near, t_far)) return false;
+    if (kind == ShellKind::aabb_slab && shell.axis != Vec3(0.0)) {
+        const double denom = glm::dot(shell.axis, q.dir);
+        const double num = glm::dot(shell.axis, q.origin);
+        // Rounding of the two dot products, bounded as in pbrt.
+        const Vec3 ao = glm::abs(shell.axis * q.origin);
+        const double err = gamma_bound(5) * (ao.x + ao.y + ao.z);
+        const double s_min = shell.slab_min - err;
+        const double s_max = shell.slab_max + err;
+        if (denom == 0.0) {
+            if (num < s_min || num > s_max) return false;
+        } else {
+            double t0 = (s_min - num) / denom;
+            double t1 = (s_max - num) / denom;
+            if (t0 > t1) std::swap(t0, t1);
+            t0 *= t0 > 0.0 ? 1.0 - 2.0 * gamma_bound(3) : 1.0 + 2.0 * gamma_bound(3);
+            t1 *= t1 > 0.0 ? 1.0 + 2.0 * gamma_bound(3) : 1.0 - 2.0 * gamma_bound(3);
+            t_near = t0 > t_near ? t0 : t_near;
+            t_far = t1 < t_far ? t1 : t_far;
+            if (t_near > t_far) return false;
+        }
+    }
+    t_entry = t_near;
+    return true;
+}
+
+}  // namespace subdivtrace

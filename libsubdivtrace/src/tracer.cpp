@@ -1,0 +1,391 @@
+// The per-ray adaptive tracer (DESIGN.md sections 5 and 6): a top-level BVH
+// over the base triangles' shells, then a descent through the lazy hierarchy
+// in which every edge decides from its own endpoints and the ray's origin
+// whether it refines. Midpoints of edges that do not refine snap to one of the
+// edge's endpoints, so both sides of every edge draw the same segment and the
+// surface each ray sees is closed.
+#include "subdivtrace/tracer.h"
+
+#include <algorithm>
+#include <array>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "bvh.h"
+#include "ray_triangle.h"
+#include "subdivtrace/hierarchy.h"
+
+namespace subdivtrace {
+
+void TraceCounters::add(const TraceCounters& o) {
+    rays += o.rays;
+    nodes_visited += o.nodes_visited;
+    leaves_tested += o.leaves_tested;
+    cache_hits += o.cache_hits;
+    cache_misses += o.cache_misses;
+    deepest_level = std::max(deepest_level, o.deepest_level);
+}
+
+namespace {
+
+/// A corner as the ray's surface draws it. Alive corners are the node's own
+/// vertices; snapped ones were moved onto an endpoint of a frozen edge and
+/// stay there for every descendant.
+struct DrawnCorner {
+    Vec3 position;
+    Vec3 normal;
+    Vec2 domain;  ///< barycentric weights of base corners 1 and 2
+    bool alive;
+};
+
+/// Lexicographic order of positions: both triangles on an edge see the same
+/// bits, so both pick the same endpoint to snap to.
+bool lex_less(const Vec3& a, const Vec3& b) {
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.z < b.z;
+}
+
+Vec2 grid_domain(const NodeId& id, int corner) {
+    const auto g = node_corner_grid(id)[corner];
+    const double inv_n = 1.0 / static_cast<double>(std::uint64_t{1} << id.level);
+    return Vec2(g[0] * inv_n, g[1] * inv_n);
+}
+
+void check_options(const SurfaceOptions& o) {
+    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
+        throw std::invalid_argument("tolerance must be a positive number, got " +
+                                    std::to_string(o.tolerance));
+    if (o.max_level < 0 || o.max_level > k_max_level_cap)
+        throw std::invalid_argument("max_level must be in 0.." + std::to_string(k_max_level_cap) +
+                                    ", got " + std::to_string(o.max_level));
+    if (o.cache_mb < 1) throw std::invalid_argument("cache_mb must be at least 1");
+    const View& v = o.view;
+    if (v.orthographic ? !(v.pixel_size > 0.0 && std::isfinite(v.pixel_size))
+                       : !(v.pixel_angle > 0.0 && std::isfinite(v.pixel_angle)))
+        throw std::invalid_argument("the view's pixel size/angle must be positive and finite");
+    if (!std::isfinite(v.camera.x) || !std::isfinite(v.camera.y) || !std::isfinite(v.camera.z))
+        throw std::invalid_argument("the camera position must be finite");
+}
+
+}  // namespace
+
+class SurfaceImpl {
+public:
+    SurfaceImpl(Mesh m, const SurfaceOptions& o)
+        : mesh(std::move(m)),
+          options(o),
+          hierarchy(mesh, o.scheme, o.max_level, o.cache_mb << 20) {
+        roots.reserve(mesh.triangles.size());
+        std::vector<Vec3> lo, hi;
+        for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+            roots.push_back(hierarchy.node(Hierarchy::root(f)));
+            lo.push_back(roots.back().shell.lo);
+            hi.push_back(roots.back().shell.hi);
+            bounds.lo = f == 0 ? lo.back() : glm::min(bounds.lo, lo.back());
+            bounds.hi = f == 0 ? hi.back() : glm::max(bounds.hi, hi.back());
+        }
+        top.build(lo, hi, 2);
+        scale = std::max(glm::length(bounds.hi - bounds.lo),
+                         std::max(glm::length(bounds.lo), glm::length(bounds.hi)));
+        level_histogram = std::vector<std::atomic<std::uint64_t>>(k_max_level_cap + 1);
+    }
+
+    void trace(const Ray& ray, bool all, Hit* nearest, bool* found, std::vector<Hit>* hits,
+               TraceCounters* counters) const;
+
+    Mesh mesh;
+    SurfaceOptions options;
+    Hierarchy hierarchy;
+    std::vector<NodeRecord> roots;
+    detail::Bvh top;
+    Bounds3 bounds;
+    double scale = 1.0;
+    mutable std::vector<std::atomic<std::uint64_t>> level_histogram;
+    mutable std::mutex totals_mutex;
+    mutable TraceCounters totals;
+};
+
+namespace {
+
+/// One ray's walk through the hierarchy.
+struct Traversal {
+    const SurfaceImpl& s;
+    Vec3 origin;
+    Vec3 dir;
+    double dir_length;
+    double origin_distance;  ///< D: camera to origin along the light path
+    double t_min;
+    double t_max;  ///< shrinks to the nearest hit in nearest mode
+    bool collect_all;
+    RayBoxQuery query;
+    detail::WatertightRay wray;
+    Hit best;
+    bool found = false;
+    std::vector<Hit>* all_hits = nullptr;
+    TraceCounters counters;
+
+    /// DESIGN section 5: an edge refines while it is longer than the ray's
+    /// footprint where the ray would meet it, width(d) = angle * (D + d) * tol.
+    bool edge_refines(const Vec3& a, const Vec3& b) const {
+        const double length = glm::length(b - a);
+        const View& view = s.options.view;
+        double width;
+        if (view.orthographic) {
+            width = view.pixel_size * s.options.tolerance;
+        } else {
+            const double to_mid = glm::length((a + b) * 0.5 - origin);
+            const double d = std::max(0.0, to_mid - 0.5 * length);
+            width = view.pixel_angle * (origin_distance + d) * s.options.tolerance;
+        }
+        return length > width;
+    }
+
+    bool shell_entry(const Shell& shell, const DrawnCorner* drawn, double& t_entry) const {
+        RayBoxQuery q = query;
+        q.t_max = t_max;
+        if (drawn[0].alive && drawn[1].alive && drawn[2].alive)
+            return ray_hits_shell(q, shell, ShellKind::aabb_slab, t_entry);
+        // Snapped corners can lie outside the node's own shell: grow by them.
+        Shell grown = shell;
+        for (int c = 0; c < 3; ++c)
+            if (!drawn[c].alive) grown.grow_both(drawn[c].position);
+        return ray_hits_shell(q, grown, ShellKind::aabb_slab, t_entry);
+    }
+
+    void leaf(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn) {
+        ++counters.leaves_tested;
+        detail::TriangleHit th;
+        if (!detail::intersect_watertight(wray, drawn[0].position, drawn[1].position,
+                                          drawn[2].position, t_min, t_max, th))
+            return;
+        Hit h;
+        h.t = th.t;
+        h.point = th.b0 * drawn[0].position + th.b1 * drawn[1].position + th.b2 * drawn[2].position;
+        h.geometric_normal = finish_normal(glm::cross(drawn[1].position - drawn[0].position,
+                                                      drawn[2].position - drawn[0].position));
+        h.normal = finish_normal(th.b0 * drawn[0].normal + th.b1 * drawn[1].normal +
+                                 th.b2 * drawn[2].normal);
+        if (h.normal == Vec3(0.0)) h.normal = h.geometric_normal;
+        const Vec2 w = th.b0 * drawn[0].domain + th.b1 * drawn[1].domain + th.b2 * drawn[2].domain;
+        if (s.mesh.has_uvs()) {
+            const Vec2* uv = &s.mesh.corner_uvs[3 * std::size_t{id.face}];
+            h.uv = (1.0 - w.x - w.y) * uv[0] + w.x * uv[1] + w.y * uv[2];
+        } else {
+            h.uv = w;
+        }
+        h.level = id.level;
+        h.base_face = id.face;
+        // Rounding of the hit point, plus how far a neighbouring ray's surface
+        // may lie from this leaf (a quarter of the leaf's shell thickness).
+        const Vec3 ap = glm::abs(h.point);
+        h.error_bound = detail_gamma_point() * (ap.x + ap.y + ap.z) +
+                        0.25 * std::max(0.0, rec.shell.thickness());
+        if (collect_all) {
+            all_hits->push_back(h);
+        } else {
+            best = h;
+            found = true;
+            t_max = h.t;
+        }
+    }
+
+    static double detail_gamma_point() { return gamma_bound(7); }
+
+    void visit(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn,
+               const bool* edge_exists) {
+        ++counters.nodes_visited;
+        counters.deepest_level = std::max(counters.deepest_level, int{id.level});
+        bool refine[3];
+        bool any = false;
+        for (int e = 0; e < 3; ++e) {
+            refine[e] = edge_exists[e] && id.level < s.options.max_level &&
+                        edge_refines(rec.position[e], rec.position[(e + 1) % 3]);
+            any = any || refine[e];
+        }
+        if (!any) {
+            leaf(id, rec, drawn);
+            return;
+        }
+
+        // A triangle refines if any of its edges does (section 6).
+        struct Child {
+            NodeId id;
+            NodeRecord rec;
+            DrawnCorner drawn[3];
+            bool exists[3];
+            double t_entry;
+            bool hit;
+        };
+        Child children[4];
+        for (int c = 0; c < 4; ++c) {
+            Child& ch = children[c];
+            ch.id = child_of(id, c);
+            ch.rec = s.hierarchy.node(ch.id);
+            const auto& map = child_corners(id.down, c);
+            for (int k = 0; k < 3; ++k) {
+                const ChildCorner cc = map[k];
+                const bool own = cc.is_edge ? refine[cc.index] : drawn[cc.index].alive;
+                if (own) {
+                    ch.drawn[k] = {ch.rec.draw_position[k], ch.rec.normal[k], grid_domain(ch.id, k), true};
+                } else if (!cc.is_edge) {
+                    ch.drawn[k] = drawn[cc.index];
+                } else {
+                    // Frozen edge: its midpoint snaps to the lexicographically
+                    // smaller endpoint (same choice on both sides of the edge).
+                    const int a = cc.index, b = (cc.index + 1) % 3;
+                    const int to = lex_less(rec.position[b], rec.position[a]) ? b : a;
+                    ch.drawn[k] = drawn[to];
+                    ch.drawn[k].alive = false;
+                }
+            }
+            for (int k = 0; k < 3; ++k) {
+                const ChildCorner p = map[k], q = map[(k + 1) % 3];
+                // Halves of a parent edge exist only if that edge refined.
+                if (!p.is_edge) ch.exists[k] = refine[q.index];
+                else if (!q.is_edge) ch.exists[k] = refine[p.index];
+                else ch.exists[k] = true;
+            }
+            ch.hit = shell_entry(ch.rec.shell, ch.drawn, ch.t_entry);
+        }
+        int order[4] = {0, 1, 2, 3};
+        std::sort(order, order + 4, [&](int x, int y) {
+            const double tx = children[x].hit ? children[x].t_entry : 1e300;
+            const double ty = children[y].hit ? children[y].t_entry : 1e300;
+            return tx < ty;
+        });
+        for (int k = 0; k < 4; ++k) {
+            Child& ch = children[order[k]];
+            if (!ch.hit) break;
+            if (!collect_all && ch.t_entry > t_max) break;
+            visit(ch.id, ch.rec, ch.drawn, ch.exists);
+        }
+    }
+};
+
+}  // namespace
+
+void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
+                        std::vector<Hit>* hits, TraceCounters* counters) const {
+    const double dir_length = glm::length(ray.direction);
+    if (!(dir_length > 0.0) || !std::isfinite(dir_length) || !std::isfinite(ray.origin.x) ||
+        !std::isfinite(ray.origin.y) || !std::isfinite(ray.origin.z)) {
+        if (found) *found = false;
+        return;
+    }
+    Traversal tr{*this,
+                 ray.origin,
+                 ray.direction,
+                 dir_length,
+                 ray.origin_distance >= 0.0 ? ray.origin_distance
+                                            : glm::length(ray.origin - options.view.camera),
+                 ray.t_min,
+                 ray.t_max,
+                 all,
+                 make_ray_box_query(ray.origin, ray.direction, ray.t_min, ray.t_max),
+                 detail::make_watertight_ray(ray.origin, ray.direction),
+                 Hit{},
+                 false,
+                 hits,
+                 TraceCounters{}};
+    tr.counters.rays = 1;
+    top.traverse(tr.query, tr.t_max, [&](std::uint32_t face) {
+        const NodeId id = Hierarchy::root(face);
+        const NodeRecord& rec = roots[face];
+        DrawnCorner drawn[3];
+        for (int c = 0; c < 3; ++c)
+            drawn[c] = {rec.draw_position[c], rec.normal[c], grid_domain(id, c), true};
+        double t_entry;
+        if (!tr.shell_entry(rec.shell, drawn, t_entry)) return;
+        const bool exists[3] = {true, true, true};
+        tr.visit(id, rec, drawn, exists);
+    });
+    if (found) *found = tr.found;
+    if (nearest && tr.found) *nearest = tr.best;
+    if (tr.found) level_histogram[tr.best.level].fetch_add(1, std::memory_order_relaxed);
+    if (all && hits) {
+        // Each crossing once: the snapped rule can draw a triangle twice, and a
+        // ray through a shared edge meets both triangles at the same t.
+        std::sort(hits->begin(), hits->end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
+        const double tol = 1e-10 * scale / dir_length;
+        std::size_t out = 0;
+        for (std::size_t k = 0; k < hits->size(); ++k) {
+            if (out > 0 && (*hits)[k].t - (*hits)[out - 1].t <= tol) continue;
+            (*hits)[out++] = (*hits)[k];
+        }
+        hits->resize(out);
+        for (const Hit& h : *hits) level_histogram[h.level].fetch_add(1, std::memory_order_relaxed);
+    }
+    if (counters) counters->add(tr.counters);
+    std::lock_guard<std::mutex> lock(totals_mutex);
+    totals.add(tr.counters);
+}
+
+AdaptiveSurface::AdaptiveSurface(Mesh mesh, const SurfaceOptions& options) {
+    check_options(options);
+    validate_mesh(mesh, "mesh");
+    impl_ = std::make_unique<SurfaceImpl>(std::move(mesh), options);
+}
+
+AdaptiveSurface::~AdaptiveSurface() = default;
+
+bool AdaptiveSurface::intersect(const Ray& ray, Hit& hit, TraceCounters* counters) const {
+    bool found = false;
+    impl_->trace(ray, false, &hit, &found, nullptr, counters);
+    return found;
+}
+
+void AdaptiveSurface::intersect_all(const Ray& ray, std::vector<Hit>& hits,
+                                    TraceCounters* counters) const {
+    hits.clear();
+    impl_->trace(ray, true, nullptr, nullptr, &hits, counters);
+}
+
+bool AdaptiveSurface::inside(const Vec3& point) const {
+    // A fixed direction no axis-aligned or symmetric mesh lines up with.
+    Ray ray;
+    ray.origin = point;
+    ray.direction = glm::normalize(Vec3(0.4812, 0.6029, 0.6366));
+    std::vector<Hit> hits;
+    intersect_all(ray, hits);
+    return hits.size() % 2 == 1;
+}
+
+Bounds3 AdaptiveSurface::bounds() const { return impl_->bounds; }
+bool AdaptiveSurface::is_closed() const { return impl_->hierarchy.closed(); }
+const SurfaceOptions& AdaptiveSurface::options() const { return impl_->options; }
+
+void AdaptiveSurface::set_view(const View& view) {
+    SurfaceOptions o = impl_->options;
+    o.view = view;
+    check_options(o);
+    impl_->options.view = view;
+}
+
+SurfaceStats AdaptiveSurface::stats() const {
+    SurfaceStats s;
+    {
+        std::lock_guard<std::mutex> lock(impl_->totals_mutex);
+        s.trace = impl_->totals;
+    }
+    const HierarchyCounters h = impl_->hierarchy.counters();
+    s.trace.cache_hits = h.node_hits;
+    s.trace.cache_misses = h.node_misses;
+    s.nodes_built = h.nodes_built;
+    s.cache_evictions = h.evictions;
+    s.cache_bytes = h.bytes;
+    s.cache_peak_bytes = h.peak_bytes;
+    for (const auto& c : impl_->level_histogram) s.leaf_level_histogram.push_back(c.load());
+    while (!s.leaf_level_histogram.empty() && s.leaf_level_histogram.back() == 0)
+        s.leaf_level_histogram.pop_back();
+    return s;
+}
+
+std::uint64_t AdaptiveSurface::uniform_triangle_count(int level) const {
+    return static_cast<std::uint64_t>(impl_->mesh.triangles.size()) << (2 * level);
+}
+
+}  // namespace subdivtrace

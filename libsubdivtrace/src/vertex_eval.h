@@ -1,0 +1,71 @@
+#pragma once
+// Lazy evaluation of the uniform hierarchy's vertices: the position of a
+// grid vertex at level L from the level L-1 vertices its stencil reads, the
+// Gouraud normal at level L from its level-L ring. Results are memoised in a
+// shared budgeted cache plus a per-call scratch table, so evaluation is
+// bounded however small the cache is, and deterministic however full it is.
+
+#include <unordered_map>
+#include <vector>
+
+#include "grid.h"
+#include "lru_cache.h"
+#include "ring_order.h"
+#include "subdivtrace/scheme.h"
+
+namespace subdivtrace::detail {
+
+struct EvalKey {
+    VertexKey vertex;
+    std::uint8_t level = 0;
+    std::uint8_t what = 0;  ///< 0 position, 1 normal, 2 drawn position
+    bool operator==(const EvalKey& o) const {
+        return vertex == o.vertex && level == o.level && what == o.what;
+    }
+};
+
+struct EvalKeyHash {
+    std::size_t operator()(const EvalKey& k) const {
+        return VertexKeyHash{}(k.vertex) ^ mix64((std::uint64_t{k.level} << 8) | k.what);
+    }
+};
+
+/// Memo of one top-level request (building one node).
+using EvalScratch = std::unordered_map<EvalKey, Vec3, EvalKeyHash>;
+
+/// A vertex's incident triangles at a level, as directed pairs (its ring).
+using KeyPairs = std::vector<FanPair<VertexKey>>;
+
+class VertexEvaluator {
+public:
+    VertexEvaluator(const BaseTopology& topo, SchemeKind scheme, std::size_t budget_bytes);
+
+    Vec3 position(const VertexKey& v, int level, EvalScratch& scratch);
+    Vec3 normal(const VertexKey& v, int level, EvalScratch& scratch);
+    /// Where the tracer draws v: its position (interpolating schemes) or its
+    /// Loop limit point, computed at its birth level so it is one value for
+    /// every leaf that draws it.
+    Vec3 draw_position(const VertexKey& v, EvalScratch& scratch);
+
+    /// Incident triangles of v at `level`, as pairs (from, to) of its ring.
+    void incident_pairs(const VertexKey& v, int level, KeyPairs& out) const;
+
+    const BaseTopology& topology() const { return topo_; }
+    CacheCounters counters() const { return cache_.counters(); }
+
+private:
+    Vec3 compute(const EvalKey& key, EvalScratch& scratch);
+    Vec3 compute_position(const VertexKey& v, int level, EvalScratch& scratch);
+    Vec3 compute_normal(const VertexKey& v, int level, EvalScratch& scratch);
+    Vec3 compute_draw_position(const VertexKey& v, EvalScratch& scratch);
+    Vec3 edge_rule(const VertexKey& a, const VertexKey& b, int level, EvalScratch& scratch);
+    void fill_ring(const VertexKey& v, int level, VertexRing& ring,
+                   OrderedRing<VertexKey>& ordered, EvalScratch& scratch);
+    Vec3 lookup(const EvalKey& key, EvalScratch& scratch);
+
+    const BaseTopology& topo_;
+    SchemeKind scheme_;
+    ShardedLruCache<EvalKey, Vec3, EvalKeyHash> cache_;
+};
+
+}  // namespace subdivtrace::detail

@@ -1,0 +1,122 @@
+// Contract "adaptive == uniform" (DESIGN.md section 3): every vertex and
+// normal the lazy hierarchy creates at level k equals uniform level-k
+// subdivision of the whole mesh, whatever the cache budget and thread count.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <thread>
+
+#include <glm/geometric.hpp>
+
+#include "subdivtrace/hierarchy.h"
+#include "subdivtrace/uniform.h"
+#include "test_meshes.h"
+
+using namespace subdivtrace;
+
+namespace {
+
+double diagonal(const Mesh& m) {
+    Vec3 lo(1e300), hi(-1e300);
+    for (const Vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    return glm::length(hi - lo);
+}
+
+/// Node of uniform triangle t at `level`: base face t / 4^level, then the
+/// base-4 digits of the remainder, most significant first, as child indices.
+NodeId node_of_uniform_triangle(std::size_t t, int level) {
+    const std::size_t per_base = std::size_t{1} << (2 * level);
+    NodeId id = Hierarchy::root(static_cast<std::uint32_t>(t / per_base));
+    std::size_t rest = t % per_base;
+    for (int k = level - 1; k >= 0; --k) {
+        id = child_of(id, static_cast<int>((rest >> (2 * k)) & 3));
+    }
+    return id;
+}
+
+struct Worst {
+    double position = 0.0;
+    double normal = 0.0;
+};
+
+/// Largest difference between each uniform triangle's corners and its node's.
+Worst compare_with_uniform(const Mesh& mesh, SchemeKind scheme, int level,
+                           std::size_t cache_bytes) {
+    const SubdividedMesh uniform = subdivide_uniform(mesh, scheme, level);
+    const Hierarchy hierarchy(mesh, scheme, level + 2, cache_bytes);
+    const double scale = diagonal(mesh);
+    Worst worst;
+    for (std::size_t t = 0; t < uniform.triangles.size(); ++t) {
+        const NodeRecord rec = hierarchy.node(node_of_uniform_triangle(t, level));
+        for (std::uint32_t v : uniform.triangles[t]) {
+            // The node's corners are the triangle's, possibly rotated.
+            double best = 1e300;
+            int best_c = 0;
+            for (int c = 0; c < 3; ++c) {
+                const double d = glm::length(rec.position[c] - uniform.positions[v]);
+                if (d < best) best = d, best_c = c;
+            }
+            worst.position = std::max(worst.position, best / scale);
+            worst.normal = std::max(worst.normal,
+                                    glm::length(rec.normal[best_c] - uniform.vertex_normals[v]));
+        }
+    }
+    return worst;
+}
+
+}  // namespace
+
+TEST_CASE("adaptive hierarchy equals uniform subdivision", "[hierarchy]") {
+    const std::vector<std::pair<const char*, Mesh>> meshes = {
+        {"icosahedron", testmesh::icosahedron()},
+        {"torus", testmesh::torus(8, 6, 1.0, 0.35)},
+        {"irregular", testmesh::irregular_closed(7)},
+        {"open grid", testmesh::open_grid(4)},
+    };
+    for (const auto& [name, mesh] : meshes) {
+        for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
+            for (int level = 0; level <= 3; ++level) {
+                INFO(name << " " << scheme_name(scheme) << " level " << level);
+                const Worst w = compare_with_uniform(mesh, scheme, level, std::size_t{256} << 20);
+                CHECK(w.position <= 1e-12);
+                CHECK(w.normal <= 1e-12);
+            }
+        }
+    }
+}
+
+TEST_CASE("hierarchy nodes do not depend on cache budget or threads", "[hierarchy]") {
+    const Mesh mesh = testmesh::irregular_closed(3);
+    for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
+        INFO(scheme_name(scheme));
+        const Hierarchy roomy(mesh, scheme, 6, std::size_t{256} << 20);
+        const Hierarchy tiny(mesh, scheme, 6, 1);  // evicts almost everything
+        const int level = 3;
+        const std::size_t count = mesh.triangles.size() << (2 * level);
+        std::vector<NodeRecord> from_threads(count);
+        {
+            // Two threads build the same nodes into one tiny cache at once.
+            auto work = [&](std::size_t start) {
+                for (std::size_t t = start; t < count; t += 2)
+                    from_threads[t] = tiny.node(node_of_uniform_triangle(t, level));
+                for (std::size_t t = 1 - start; t < count; t += 2)
+                    tiny.node(node_of_uniform_triangle(t, level));
+            };
+            std::thread a(work, 0), b(work, 1);
+            a.join();
+            b.join();
+        }
+        bool identical = true;
+        for (std::size_t t = 0; t < count; t += 1) {
+            const NodeRecord r = roomy.node(node_of_uniform_triangle(t, level));
+            const NodeRecord& s = from_threads[t];
+            for (int c = 0; c < 3; ++c) {
+                identical = identical && r.position[c] == s.position[c] &&
+                            r.normal[c] == s.normal[c] && r.draw_position[c] == s.draw_position[c];
+            }
+            identical = identical && r.shell.lo == s.shell.lo && r.shell.hi == s.shell.hi;
+        }
+        CHECK(identical);
+        CHECK(tiny.counters().evictions > 0);
+    }
+}
