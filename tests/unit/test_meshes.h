@@ -1,0 +1,87 @@
+#pragma once
+// Test meshes shared by the unit tests: analytic shapes (icosahedron, icosphere,
+// torus), an irregular closed mesh with valences 3..12, and the stiff cases of
+// DESIGN.md section 9. All closed meshes are consistently oriented, counter-
+// clockwise seen from outside. Also: conversion to and from OpenMesh (the
+// independent reference for Loop and Butterfly) and a position matcher.
+
+#include <cstdint>
+#include <vector>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include "subdivtrace/mesh.h"
+
+namespace subdivtrace::testmesh {
+
+/// Regular icosahedron, circumradius 1: 12 vertices, 20 faces.
+Mesh icosahedron();
+
+/// The icosahedron split 1-to-4 `subdivisions` times with every vertex
+/// projected to the unit sphere (1 -> 42 vertices, 80 faces).
+Mesh icosphere(int subdivisions);
+
+/// Torus around the z axis: `rings` steps around the big circle (radius R),
+/// `sides` steps around the tube (radius r); 2 * rings * sides triangles.
+Mesh torus(int rings, int sides, double R, double r);
+
+/// A closed, manifold, genus-0 mesh with vertex valences from 3 to 12 (both
+/// reached): a 320-face icosphere with random, then targeted, edge flips that
+/// keep every face facing outward, then radially perturbed positions.
+Mesh irregular_closed(unsigned seed);
+
+/// Open bumpy patch over [-1, 1]^2 with (n + 1)^2 vertices and 2 n^2 triangles;
+/// vertex (i, j) (i along x, j along y) has index j * (n + 1) + i. Diagonals
+/// alternate, so interior valences are 4, 6 and 8.
+Mesh open_grid(int n);
+/// Index of vertex (i, j) of open_grid(n).
+inline std::uint32_t grid_index(int n, int i, int j) {
+    return static_cast<std::uint32_t>(j * (n + 1) + i);
+}
+
+/// Closed icosahedron with one edge split very near an endpoint: two needle
+/// triangles of aspect ratio ~1e6 (longest edge squared over twice the area).
+Mesh sliver_mesh();
+
+/// Closed icosahedron with an exactly collinear T-junction closed by a
+/// zero-area triangle.
+Mesh zero_area_mesh();
+
+/// Closed bipyramid: a ring of n vertices and two apexes of valence n.
+Mesh high_valence_fan(int n);
+
+/// A thin closed lens (two cones of height 1e-4 on a unit ring of 8): faces
+/// that meet at the rim have normals ~180 degrees apart.
+Mesh folded();
+
+/// p * scale + offset for every position (normals and UVs unchanged).
+Mesh offset_mesh(Mesh mesh, const Vec3& offset, double scale);
+
+/// Longest edge squared over twice the area (infinite for zero area).
+double max_aspect_ratio(const Mesh& mesh);
+
+/// Vertex valences (distinct neighbours through triangle edges).
+std::vector<int> valences(const Mesh& mesh);
+
+/// Length of the bounding-box diagonal of the positions.
+double bbox_diagonal(const std::vector<Vec3>& positions);
+
+/// Matches each of `a` to its nearest point of `b` (grid search, cell size
+/// `cell`). Returns the matched indices (UINT32_MAX where no point of b lies in
+/// the neighbouring cells) and the largest matched distance in *max_distance.
+std::vector<std::uint32_t> match_positions(const std::vector<Vec3>& a,
+                                           const std::vector<Vec3>& b, double cell,
+                                           double* max_distance);
+
+/// OpenMesh's TriMesh in double precision.
+struct DTraits : OpenMesh::DefaultTraits {
+    using Point = OpenMesh::Vec3d;
+    using Normal = OpenMesh::Vec3d;
+};
+using OmMesh = OpenMesh::TriMesh_ArrayKernelT<DTraits>;
+
+/// Same vertices (same indices) and faces (same order); attributes dropped.
+OmMesh to_openmesh(const Mesh& mesh);
+Mesh from_openmesh(const OmMesh& om);
+
+}  // namespace subdivtrace::testmesh
