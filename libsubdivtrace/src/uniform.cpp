@@ -16,8 +16,8 @@ namespace {
 /// One level of subdivision: positions of old vertices, then edge points,
 /// then the topology rewritten (children 4t..4t+3, see uniform.h).
 void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
-                    std::vector<Triangle>& triangles, std::vector<Vec2>* corner_uvs,
-                    std::vector<Vec3>* corner_normals) {
+                    std::vector<Triangle>& triangles, std::vector<std::uint8_t>& down,
+                    std::vector<Vec2>* corner_uvs, std::vector<Vec3>* corner_normals) {
     const LevelTopology topo(positions, triangles);
     const std::vector<Vec3> normals =
         scheme == SchemeKind::normal ? gouraud_normals(positions, triangles) : std::vector<Vec3>{};
@@ -64,6 +64,8 @@ void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
     // Topology: each triangle becomes four.
     std::vector<Triangle> children;
     children.reserve(triangles.size() * 4);
+    std::vector<std::uint8_t> children_down;
+    children_down.reserve(triangles.size() * 4);
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const Triangle& tri = triangles[t];
         const std::uint32_t m_ab = static_cast<std::uint32_t>(old_count) + topo.face_edge(t, 0);
@@ -72,7 +74,12 @@ void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
         children.push_back({tri[0], m_ab, m_ca});
         children.push_back({m_ab, tri[1], m_bc});
         children.push_back({m_ca, m_bc, tri[2]});
-        children.push_back({m_ab, m_bc, m_ca});
+        // The middle child is the same triangle either way; rotating it for
+        // "down" parents keeps corner order equal to the hierarchy's grid order.
+        if (down[t]) children.push_back({m_ca, m_ab, m_bc});
+        else children.push_back({m_ab, m_bc, m_ca});
+        for (int c = 0; c < 3; ++c) children_down.push_back(down[t]);
+        children_down.push_back(!down[t]);
     }
 
     // Per-corner attributes are linear over the base triangle: midpoints of corners.
@@ -83,7 +90,12 @@ void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
         for (std::size_t t = 0; t < triangles.size(); ++t) {
             const T a = corners[3 * t], b = corners[3 * t + 1], c = corners[3 * t + 2];
             const T ab = (a + b) * 0.5, bc = (b + c) * 0.5, ca = (c + a) * 0.5;
-            for (const T& x : {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca}) out.push_back(x);
+            for (const T& x : {a, ab, ca, ab, b, bc, ca, bc, c}) out.push_back(x);
+            if (down[t]) {
+                for (const T& x : {ca, ab, bc}) out.push_back(x);
+            } else {
+                for (const T& x : {ab, bc, ca}) out.push_back(x);
+            }
         }
         corners.swap(out);
     };
@@ -92,6 +104,7 @@ void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
 
     positions.swap(next);
     triangles.swap(children);
+    down.swap(children_down);
 }
 
 }  // namespace
@@ -115,8 +128,10 @@ SubdividedMesh subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels
     out.triangles = mesh.triangles;
     out.corner_uvs = mesh.corner_uvs;
     out.corner_normals = mesh.corner_normals;
+    std::vector<std::uint8_t> down(out.triangles.size(), 0);
     for (int k = 0; k < levels; ++k) {
-        subdivide_once(scheme, out.positions, out.triangles, &out.corner_uvs, &out.corner_normals);
+        subdivide_once(scheme, out.positions, out.triangles, down, &out.corner_uvs,
+                       &out.corner_normals);
     }
     for (Vec3& n : out.corner_normals) n = finish_normal(n);
     out.vertex_normals = gouraud_normals(out.positions, out.triangles);

@@ -15,7 +15,10 @@ namespace subdivtrace {
 /// A uniformly subdivided mesh. Triangle t of level k has children
 /// 4t .. 4t+3 at level k+1, with corners (for parent corners A, B, C and edge
 /// points mAB, mBC, mCA): (A, mAB, mCA), (mAB, B, mBC), (mCA, mBC, C),
-/// (mAB, mBC, mCA). So triangle t comes from base triangle t / 4^levels.
+/// and the middle one (mAB, mBC, mCA), or (mCA, mAB, mBC) when the parent is
+/// an inverted ("down") triangle of its base triangle's grid, so that corner order matches
+/// the hierarchy's grid (hierarchy.h). Triangle t comes from base triangle
+/// t / 4^levels.
 struct SubdividedMesh {
     int levels = 0;
     std::vector<Vec3> positions;
