@@ -1,0 +1,114 @@
+/*******************************************************************************
+ * subdivisionmesh.h
+ *
+ * This module contains all defines, typedefs, and prototypes for
+ * subdivisionmesh.cpp: the subdivision_mesh primitive, a triangle mesh traced
+ * as the smooth limit surface of a subdivision scheme, refined per ray by
+ * libsubdivtrace.
+ *
+ * ---------------------------------------------------------------------------
+ * Part of the subdivtrace patch to POV-Ray 3.7 (see povray_patch/ in the
+ * subdivtrace project). POV-Ray is free software under the GNU Affero
+ * General Public License, version 3 or later; so is this file.
+ *******************************************************************************/
+
+#ifndef SUBDIVISIONMESH_H
+#define SUBDIVISIONMESH_H
+
+#include <memory>
+#include <string>
+#include <vector>
+
+// The library's types stay out of this header: it is included after POV-Ray's
+// own headers (whose DBL/X/Y/Z/min/max clash with GLM's), so only
+// subdivisionmesh.cpp sees libsubdivtrace.
+namespace subdivtrace
+{
+	class AdaptiveSurface;
+}
+
+namespace pov
+{
+
+/*****************************************************************************
+* Global preprocessor defines
+******************************************************************************/
+
+// Closed meshes are solid; open ones become patches (no inside) once built.
+#define SUBDIVISION_MESH_OBJECT (BASIC_OBJECT)
+
+
+/*****************************************************************************
+* Global typedefs
+******************************************************************************/
+
+class Camera;
+
+/// Everything the parser reads from a subdivision_mesh block, in plain types.
+struct SubdivisionMeshInput
+{
+	/// Path of a mesh file ("file"), or empty when the arrays below are used.
+	std::string File;
+	/// mesh2-style arrays: xyz triples, uv pairs, index triples.
+	std::vector<double> Vertices;
+	std::vector<double> Normals;
+	std::vector<double> UVs;
+	std::vector<long long> FaceIndices;
+	std::vector<long long> NormalIndices;
+	std::vector<long long> UVIndices;
+
+	/// "normal", "loop" or "butterfly".
+	std::string Scheme;
+	DBL Tolerance;
+	int MaxLevel;
+	int CacheMB;
+
+	/// Defaults of libsubdivtrace's SurfaceOptions.
+	SubdivisionMeshInput();
+};
+
+class SubdivisionMesh : public ObjectBase
+{
+	public:
+		SubdivisionMesh();
+		virtual ~SubdivisionMesh();
+
+		virtual ObjectPtr Copy();
+
+		virtual bool All_Intersections(const Ray&, IStack&, TraceThreadData *);
+		virtual bool Inside(const VECTOR, TraceThreadData *) const;
+		virtual void Normal(VECTOR, Intersection *, TraceThreadData *) const;
+		virtual void UVCoord(UV_VECT, const Intersection *, TraceThreadData *) const;
+		virtual void Translate(const VECTOR, const TRANSFORM *);
+		virtual void Rotate(const VECTOR, const TRANSFORM *);
+		virtual void Scale(const VECTOR, const TRANSFORM *);
+		virtual void Transform(const TRANSFORM *);
+		virtual void Invert();
+		virtual void Compute_BBox();
+
+		/// Builds the surface from parsed input. Returns an empty string on
+		/// success, else the reason (for the parser's Error()); warnings from
+		/// the library are appended to `warnings`.
+		std::string Build(const SubdivisionMeshInput& input, std::vector<std::string>& warnings);
+
+		/// Hands the final camera and image width to the surface (pixel angle
+		/// of DESIGN.md section 5); called once parsing is complete.
+		void Set_View(const Camera& camera, int image_width);
+
+		/// True if every base edge has two triangles (the object has an inside).
+		bool Is_Closed() const;
+
+		/// Deepest max_level the library accepts.
+		static int Max_Level_Cap();
+
+	private:
+		/// Shared by all copies of the object: the node cache is per surface.
+		std::shared_ptr<subdivtrace::AdaptiveSurface> surface;
+		/// Camera location in this copy's object space (origin distance of rays).
+		VECTOR CameraLocal;
+		bool HaveCamera;
+};
+
+}
+
+#endif
