@@ -1,6 +1,7 @@
 #include "subdivtrace/hierarchy.h"
 
 #include <algorithm>
+#include <atomic>
 #include <stdexcept>
 
 #include <glm/geometric.hpp>
@@ -22,6 +23,9 @@ using detail::VertexKey;
 constexpr double k_displacement_factor = 2.0;
 /// Relative slack for rounding in the stencils, times the node's extent.
 constexpr double k_rounding_slack = 1e-9;
+/// Entries a thread keeps in its private vertex table (about 64 bytes each).
+constexpr std::size_t k_thread_scratch_entries = std::size_t{1} << 16;
+std::atomic<std::uint64_t> g_next_hierarchy_id{1};
 
 struct NodeKeyHash {
     std::size_t operator()(const NodeId& n) const {
@@ -97,11 +101,23 @@ public:
     detail::VertexEvaluator vertices;
     detail::ShardedLruCache<NodeId, NodeRecord, NodeKeyHash> nodes;
     std::atomic<std::uint64_t> built{0};
+    const std::uint64_t id_ = g_next_hierarchy_id.fetch_add(1);
 };
 
 NodeRecord HierarchyImpl::build(const NodeId& id) {
-    detail::EvalScratch scratch;
-    scratch.reserve(256);
+    // One scratch table per thread, kept across builds as a private front to
+    // the shared vertex cache (bounded; values are deterministic, so keeping
+    // them cannot change a result). Cleared when another hierarchy uses it.
+    struct ThreadScratch {
+        std::uint64_t owner = 0;
+        detail::EvalScratch table;
+    };
+    thread_local ThreadScratch mine;
+    if (mine.owner != id_ || mine.table.size() > k_thread_scratch_entries) {
+        mine.table.clear();
+        mine.owner = id_;
+    }
+    detail::EvalScratch& scratch = mine.table;
     const int level = id.level;
     const auto grid = node_corner_grid(id);
     std::array<VertexKey, 3> keys;
@@ -141,24 +157,9 @@ NodeRecord HierarchyImpl::build(const NodeId& id) {
             // levels are bounded by the displacement of every edge point in
             // the corners' neighbourhood, times a series factor.
             double max_displacement = 0.0;
-            std::vector<detail::GridPoint> reps;
-            const std::uint32_t n = std::uint32_t{1} << level;
             for (int c = 0; c < 3; ++c) {
-                topo.representations(keys[c], level, reps);
-                const Vec3 pc = rec.position[c];
-                for (const detail::GridPoint& g : reps) {
-                    detail::for_each_incident_grid_triangle(
-                        n, g.i, g.j,
-                        [&](std::uint32_t i1, std::uint32_t j1, std::uint32_t, std::uint32_t) {
-                            const VertexKey q = topo.canonical(g.face, level, i1, j1);
-                            const VertexKey mid =
-                                topo.canonical(g.face, level + 1, g.i + i1, g.j + j1);
-                            const Vec3 pq = vertices.position(q, level, scratch);
-                            const Vec3 pm = vertices.position(mid, level + 1, scratch);
-                            max_displacement =
-                                std::max(max_displacement, glm::length(pm - (pc + pq) * 0.5));
-                        });
-                }
+                max_displacement = std::max(max_displacement,
+                                            vertices.edge_displacement(keys[c], level, scratch));
             }
             for (int e = 0; e < 3; ++e) {
                 const VertexKey mid = topo.canonical(id.face, level + 1,

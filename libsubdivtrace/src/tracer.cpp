@@ -71,6 +71,24 @@ void check_options(const SurfaceOptions& o) {
         throw std::invalid_argument("the camera position must be finite");
 }
 
+/// Every surface gets an id never reused, so per-thread caches cannot
+/// confuse a destroyed surface with a new one at the same address.
+std::atomic<std::uint64_t> g_next_surface_id{1};
+
+/// A small direct-mapped cache of node records per thread, in front of the
+/// shared cache: neighbouring rays visit the same nodes, and this spares them
+/// the shared cache's lock and hash lookups. Records are deterministic, so a
+/// hit can never differ from what the shared cache would return.
+struct NodeL1 {
+    static constexpr std::size_t k_slots = 4096;
+    struct Slot {
+        std::uint64_t surface = 0;
+        NodeId id;
+        NodeRecord rec;
+    };
+    std::vector<Slot> slots = std::vector<Slot>(k_slots);
+};
+
 }  // namespace
 
 class SurfaceImpl {
@@ -104,6 +122,7 @@ public:
     detail::Bvh top;
     Bounds3 bounds;
     double scale = 1.0;
+    const std::uint64_t id = g_next_surface_id.fetch_add(1);
     mutable std::vector<std::atomic<std::uint64_t>> level_histogram;
     mutable std::mutex totals_mutex;
     mutable TraceCounters totals;
@@ -195,6 +214,19 @@ struct Traversal {
 
     static double detail_gamma_point() { return gamma_bound(7); }
 
+    NodeRecord node(const NodeId& id) {
+        thread_local NodeL1 l1;
+        const std::size_t h = (std::size_t{id.face} * 0x9E3779B1u) ^ (std::size_t{id.level} << 20) ^
+                              (std::size_t{id.i} * 0x85EBCA77u) ^ (std::size_t{id.j} * 0xC2B2AE3Du) ^
+                              (id.down ? 0x27D4EB2Fu : 0u);
+        NodeL1::Slot& slot = l1.slots[(h ^ (h >> 13)) % NodeL1::k_slots];
+        if (slot.surface == s.id && slot.id == id) return slot.rec;
+        slot.surface = s.id;
+        slot.id = id;
+        slot.rec = s.hierarchy.node(id);
+        return slot.rec;
+    }
+
     void visit(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn,
                const bool* edge_exists) {
         ++counters.nodes_visited;
@@ -224,7 +256,7 @@ struct Traversal {
         for (int c = 0; c < 4; ++c) {
             Child& ch = children[c];
             ch.id = child_of(id, c);
-            ch.rec = s.hierarchy.node(ch.id);
+            ch.rec = node(ch.id);
             const auto& map = child_corners(id.down, c);
             for (int k = 0; k < 3; ++k) {
                 const ChildCorner cc = map[k];

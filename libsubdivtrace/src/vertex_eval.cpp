@@ -1,5 +1,6 @@
 #include "vertex_eval.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -8,7 +9,7 @@ namespace subdivtrace::detail {
 
 namespace {
 
-enum What : std::uint8_t { k_position = 0, k_normal = 1, k_draw = 2 };
+enum What : std::uint8_t { k_position = 0, k_normal = 1, k_draw = 2, k_displacement = 3 };
 
 const auto key_eq = [](const VertexKey& x, const VertexKey& y) { return x == y; };
 
@@ -62,8 +63,33 @@ Vec3 VertexEvaluator::compute(const EvalKey& key, EvalScratch& scratch) {
     switch (key.what) {
         case k_position: return compute_position(key.vertex, key.level, scratch);
         case k_normal: return compute_normal(key.vertex, key.level, scratch);
+        case k_displacement: return compute_edge_displacement(key.vertex, key.level, scratch);
         default: return compute_draw_position(key.vertex, scratch);
     }
+}
+
+double VertexEvaluator::edge_displacement(const VertexKey& v, int level, EvalScratch& scratch) {
+    return lookup({v, static_cast<std::uint8_t>(level), k_displacement}, scratch).x;
+}
+
+Vec3 VertexEvaluator::compute_edge_displacement(const VertexKey& v, int level,
+                                                EvalScratch& scratch) {
+    std::vector<GridPoint> reps;
+    topo_.representations(v, level, reps);
+    const std::uint32_t n = std::uint32_t{1} << level;
+    const Vec3 pv = position(v, level, scratch);
+    double largest = 0.0;
+    for (const GridPoint& g : reps) {
+        for_each_incident_grid_triangle(
+            n, g.i, g.j, [&](std::uint32_t i1, std::uint32_t j1, std::uint32_t, std::uint32_t) {
+                const VertexKey q = topo_.canonical(g.face, level, i1, j1);
+                const VertexKey mid = topo_.canonical(g.face, level + 1, g.i + i1, g.j + j1);
+                const Vec3 pq = position(q, level, scratch);
+                const Vec3 pm = position(mid, level + 1, scratch);
+                largest = std::max(largest, glm::length(pm - (pv + pq) * 0.5));
+            });
+    }
+    return Vec3(largest, 0.0, 0.0);
 }
 
 void VertexEvaluator::incident_pairs(const VertexKey& v, int level, KeyPairs& out) const {

@@ -18,7 +18,7 @@ namespace subdivtrace::detail {
 struct EvalKey {
     VertexKey vertex;
     std::uint8_t level = 0;
-    std::uint8_t what = 0;  ///< 0 position, 1 normal, 2 drawn position
+    std::uint8_t what = 0;  ///< 0 position, 1 normal, 2 drawn position, 3 displacement
     bool operator==(const EvalKey& o) const {
         return vertex == o.vertex && level == o.level && what == o.what;
     }
@@ -47,6 +47,11 @@ public:
     /// every leaf that draws it.
     Vec3 draw_position(const VertexKey& v, EvalScratch& scratch);
 
+    /// Largest distance of a level-(level+1) edge point from its edge's
+    /// midpoint, over the edges from v at `level` (the local displacement that
+    /// bounds an interpolating scheme's descendants, section 4 of DESIGN.md).
+    double edge_displacement(const VertexKey& v, int level, EvalScratch& scratch);
+
     /// Incident triangles of v at `level`, as pairs (from, to) of its ring.
     void incident_pairs(const VertexKey& v, int level, KeyPairs& out) const;
 
@@ -58,6 +63,7 @@ private:
     Vec3 compute_position(const VertexKey& v, int level, EvalScratch& scratch);
     Vec3 compute_normal(const VertexKey& v, int level, EvalScratch& scratch);
     Vec3 compute_draw_position(const VertexKey& v, EvalScratch& scratch);
+    Vec3 compute_edge_displacement(const VertexKey& v, int level, EvalScratch& scratch);
     Vec3 edge_rule(const VertexKey& a, const VertexKey& b, int level, EvalScratch& scratch);
     void fill_ring(const VertexKey& v, int level, VertexRing& ring,
                    OrderedRing<VertexKey>& ordered, EvalScratch& scratch);
