@@ -1,0 +1,179 @@
+// Mesh construction from raw arrays, validation and bounds (mesh.h).
+#include "subdivtrace/mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <glm/common.hpp>
+
+namespace subdivtrace {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& source, const std::string& reason) {
+    throw MeshError(source + ": " + reason);
+}
+
+bool is_finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+bool is_finite(const Vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
+
+std::string format_vec(const Vec3& v) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "(%g, %g, %g)", v.x, v.y, v.z);
+    return buf;
+}
+std::string format_vec(const Vec2& v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "(%g, %g)", v.x, v.y);
+    return buf;
+}
+
+/// Every value of `values` must be finite; `what` names them in the message.
+template <class V>
+void check_finite(const std::vector<V>& values, const char* what, const std::string& source) {
+    for (std::size_t i = 0; i < values.size(); ++i)
+        if (!is_finite(values[i]))
+            fail(source, std::string(what) + " " + std::to_string(i) +
+                             " is not finite " + format_vec(values[i]));
+}
+
+/// Checks one index triple of `list` (named `what`) against [0, count).
+void check_range(const std::array<std::int64_t, 3>& idx, std::size_t count, const char* what,
+                 std::size_t face, const std::string& source) {
+    for (std::int64_t i : idx)
+        if (i < 0 || static_cast<std::uint64_t>(i) >= count)
+            fail(source, std::string(what) + " of face " + std::to_string(face) + ": index " +
+                             std::to_string(i) + " out of range (" + std::to_string(count) +
+                             (count == 0 ? " entries)" : " entries, valid 0.." +
+                                                             std::to_string(count - 1) + ")"));
+}
+
+}  // namespace
+
+Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
+                      std::vector<std::string>* warnings) {
+    // Sizes first: they decide how the index lists are read.
+    if (arrays.face_indices.empty()) fail(source, "no faces");
+    if (arrays.positions.empty()) fail(source, "no vertices");
+    if (arrays.positions.size() > std::numeric_limits<std::uint32_t>::max())
+        fail(source, "too many vertices (" + std::to_string(arrays.positions.size()) +
+                         ", at most 2^32 - 1)");
+    const std::size_t n_faces = arrays.face_indices.size();
+    if (!arrays.normal_indices.empty() && arrays.normals.empty())
+        fail(source, "normal_indices given without normal_vectors");
+    if (!arrays.uv_indices.empty() && arrays.uvs.empty())
+        fail(source, "uv_indices given without uv_vectors");
+    if (!arrays.normal_indices.empty() && arrays.normal_indices.size() != n_faces)
+        fail(source, "normal_indices has " + std::to_string(arrays.normal_indices.size()) +
+                         " entries but face_indices has " + std::to_string(n_faces));
+    if (!arrays.uv_indices.empty() && arrays.uv_indices.size() != n_faces)
+        fail(source, "uv_indices has " + std::to_string(arrays.uv_indices.size()) +
+                         " entries but face_indices has " + std::to_string(n_faces));
+
+    check_finite(arrays.positions, "vertex", source);
+    check_finite(arrays.normals, "normal", source);
+    check_finite(arrays.uvs, "uv", source);
+
+    const bool has_normals = !arrays.normals.empty();
+    const bool has_uvs = !arrays.uvs.empty();
+    for (std::size_t f = 0; f < n_faces; ++f) {
+        check_range(arrays.face_indices[f], arrays.positions.size(), "vertex index", f, source);
+        if (has_normals)
+            check_range(arrays.normal_indices.empty() ? arrays.face_indices[f]
+                                                      : arrays.normal_indices[f],
+                        arrays.normals.size(), "normal index", f, source);
+        if (has_uvs)
+            check_range(arrays.uv_indices.empty() ? arrays.face_indices[f] : arrays.uv_indices[f],
+                        arrays.uvs.size(), "uv index", f, source);
+    }
+
+    // Copy, dropping triangles that repeat a vertex: they have no area and no
+    // three edges, so no scheme can split them.
+    Mesh mesh;
+    mesh.positions = arrays.positions;
+    mesh.triangles.reserve(n_faces);
+    if (has_normals) mesh.corner_normals.reserve(3 * n_faces);
+    if (has_uvs) mesh.corner_uvs.reserve(3 * n_faces);
+    std::size_t dropped = 0;
+    std::size_t first_dropped = 0;
+    for (std::size_t f = 0; f < n_faces; ++f) {
+        const auto& v = arrays.face_indices[f];
+        if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) {
+            if (dropped++ == 0) first_dropped = f;
+            continue;
+        }
+        mesh.triangles.push_back({static_cast<std::uint32_t>(v[0]),
+                                  static_cast<std::uint32_t>(v[1]),
+                                  static_cast<std::uint32_t>(v[2])});
+        for (int c = 0; c < 3; ++c) {
+            if (has_normals) {
+                const auto& ni =
+                    arrays.normal_indices.empty() ? v : arrays.normal_indices[f];
+                mesh.corner_normals.push_back(arrays.normals[static_cast<std::size_t>(ni[c])]);
+            }
+            if (has_uvs) {
+                const auto& ui = arrays.uv_indices.empty() ? v : arrays.uv_indices[f];
+                mesh.corner_uvs.push_back(arrays.uvs[static_cast<std::size_t>(ui[c])]);
+            }
+        }
+    }
+    if (mesh.triangles.empty())
+        fail(source, "no faces left: all " + std::to_string(n_faces) +
+                         " triangles repeat a vertex index");
+    if (dropped > 0 && warnings)
+        warnings->push_back(source + ": dropped " + std::to_string(dropped) +
+                            " triangle(s) that repeat a vertex index (first: face " +
+                            std::to_string(first_dropped) + ")");
+    return mesh;
+}
+
+void validate_mesh(const Mesh& mesh, const std::string& source) {
+    if (mesh.triangles.empty()) fail(source, "no faces");
+    if (mesh.positions.size() > std::numeric_limits<std::uint32_t>::max())
+        fail(source, "too many vertices");
+    const std::size_t corners = 3 * mesh.triangles.size();
+    if (!mesh.corner_normals.empty() && mesh.corner_normals.size() != corners)
+        fail(source, "corner_normals has " + std::to_string(mesh.corner_normals.size()) +
+                         " entries, expected 3 per triangle (" + std::to_string(corners) + ")");
+    if (!mesh.corner_uvs.empty() && mesh.corner_uvs.size() != corners)
+        fail(source, "corner_uvs has " + std::to_string(mesh.corner_uvs.size()) +
+                         " entries, expected 3 per triangle (" + std::to_string(corners) + ")");
+    check_finite(mesh.positions, "vertex", source);
+    check_finite(mesh.corner_normals, "corner normal", source);
+    check_finite(mesh.corner_uvs, "corner uv", source);
+    const std::size_t n = mesh.positions.size();
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        for (std::uint32_t i : tri)
+            if (i >= n)
+                fail(source, "triangle " + std::to_string(t) + ": vertex index " +
+                                 std::to_string(i) + " out of range (" + std::to_string(n) +
+                                 " vertices)");
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])
+            fail(source, "triangle " + std::to_string(t) + " repeats a vertex index");
+    }
+}
+
+Bounds3 mesh_bounds(const Mesh& mesh) {
+    Bounds3 b;
+    bool first = true;
+    for (const Triangle& tri : mesh.triangles)
+        for (std::uint32_t i : tri) {
+            if (i >= mesh.positions.size()) continue;
+            const Vec3& p = mesh.positions[i];
+            if (first) {
+                b.lo = b.hi = p;
+                first = false;
+            } else {
+                b.lo = glm::min(b.lo, p);
+                b.hi = glm::max(b.hi, p);
+            }
+        }
+    return b;
+}
+
+}  // namespace subdivtrace

@@ -1,0 +1,207 @@
+// Mesh analysis for `subdivtrace info` (mesh_report.h).
+#include "subdivtrace/mesh_report.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+namespace subdivtrace {
+
+namespace {
+
+// Exact arithmetic for the sign of a 2x2 orientation determinant (Shewchuk,
+// "Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric
+// Predicates", 1997): products split exactly with fma, summed as a
+// nonoverlapping expansion.
+
+void two_sum(double a, double b, double& s, double& e) {
+    s = a + b;
+    const double bv = s - a;
+    const double av = s - bv;
+    e = (a - av) + (b - bv);
+}
+
+/// Adds b to the expansion e (nonoverlapping, increasing magnitude), in place.
+void grow_expansion(std::vector<double>& e, double b) {
+    double q = b;
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+        double s, h;
+        two_sum(q, e[i], s, h);
+        q = s;
+        if (h != 0.0) e[out++] = h;
+    }
+    e.resize(out);
+    if (q != 0.0) e.push_back(q);
+}
+
+/// Sign of (b - a) x (c - a) in the plane of coordinates (i, j): exact.
+int orient2d_sign(const Vec3& a, const Vec3& b, const Vec3& c, int i, int j) {
+    // det = ax*by - ax*cy - bx*ay + bx*cy + cx*ay - cx*by
+    const double terms[6][2] = {{a[i], b[j]}, {-a[i], c[j]}, {-b[i], a[j]},
+                                {b[i], c[j]}, {c[i], a[j]},  {-c[i], b[j]}};
+    double naive = 0.0, magnitude = 0.0;
+    for (const auto& t : terms) {
+        naive += t[0] * t[1];
+        magnitude += std::abs(t[0] * t[1]);
+    }
+    // Forward error of six products and five sums is below 12 eps * magnitude.
+    const double bound = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+    if (naive > bound) return 1;
+    if (naive < -bound) return -1;
+    std::vector<double> e;
+    e.reserve(24);
+    for (const auto& t : terms) {
+        const double p = t[0] * t[1];
+        const double err = std::fma(t[0], t[1], -p);
+        grow_expansion(e, err);
+        grow_expansion(e, p);
+    }
+    if (e.empty()) return 0;
+    return e.back() > 0.0 ? 1 : -1;
+}
+
+struct EdgeInfo {
+    std::uint32_t faces = 0;
+};
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+    if (a > b) std::swap(a, b);
+    return (std::uint64_t(a) << 32) | b;
+}
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+    a = find_root(parent, a);
+    b = find_root(parent, b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+}
+
+}  // namespace
+
+bool is_degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+    // Collinear in 3-D iff collinear in all three axis projections.
+    return orient2d_sign(a, b, c, 0, 1) == 0 && orient2d_sign(a, b, c, 1, 2) == 0 &&
+           orient2d_sign(a, b, c, 2, 0) == 0;
+}
+
+MeshReport analyze_mesh(const Mesh& mesh) {
+    MeshReport r;
+    const std::size_t nv = mesh.positions.size();
+    r.vertices = nv;
+    r.faces = mesh.triangles.size();
+    r.has_normals = mesh.has_normals();
+    r.has_uvs = mesh.has_uvs();
+    r.bounds = mesh_bounds(mesh);
+
+    // Edges and the triangles on them.
+    std::unordered_map<std::uint64_t, EdgeInfo> edges;
+    edges.reserve(mesh.triangles.size() * 2);
+    std::vector<unsigned char> used(nv, 0);
+    for (const Triangle& t : mesh.triangles)
+        for (int k = 0; k < 3; ++k) {
+            used[t[k]] = 1;
+            ++edges[edge_key(t[k], t[(k + 1) % 3])].faces;
+        }
+    r.edges = edges.size();
+    std::vector<int> valence(nv, 0);
+    std::vector<unsigned char> on_nonmanifold(nv, 0);
+    for (const auto& [key, info] : edges) {
+        const auto a = static_cast<std::uint32_t>(key >> 32);
+        const auto b = static_cast<std::uint32_t>(key & 0xFFFFFFFFu);
+        ++valence[a];
+        ++valence[b];
+        if (info.faces == 1) ++r.boundary_edges;
+        if (info.faces > 2) {
+            ++r.nonmanifold_edges;
+            on_nonmanifold[a] = on_nonmanifold[b] = 1;
+        }
+    }
+    r.closed = !edges.empty() && r.boundary_edges == 0 && r.nonmanifold_edges == 0;
+
+    // Valences of the used vertices.
+    bool first = true;
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (!used[v]) {
+            ++r.unreferenced_vertices;
+            continue;
+        }
+        const int k = valence[v];
+        if (r.valence_histogram.size() <= static_cast<std::size_t>(k))
+            r.valence_histogram.resize(static_cast<std::size_t>(k) + 1, 0);
+        ++r.valence_histogram[static_cast<std::size_t>(k)];
+        r.min_valence = first ? k : std::min(r.min_valence, k);
+        r.max_valence = first ? k : std::max(r.max_valence, k);
+        first = false;
+    }
+
+    // Degenerate and duplicate triangles.
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+        const Triangle& t = mesh.triangles[f];
+        if (is_degenerate_triangle(mesh.positions[t[0]], mesh.positions[t[1]],
+                                   mesh.positions[t[2]]))
+            ++r.degenerate_faces;
+    }
+    {
+        std::vector<std::array<std::uint32_t, 3>> sorted(mesh.triangles.size());
+        for (std::size_t f = 0; f < sorted.size(); ++f) {
+            sorted[f] = mesh.triangles[f];
+            std::sort(sorted[f].begin(), sorted[f].end());
+        }
+        std::sort(sorted.begin(), sorted.end());
+        for (std::size_t f = 1; f < sorted.size(); ++f)
+            if (sorted[f] == sorted[f - 1]) ++r.duplicate_faces;
+    }
+
+    // Connected components through shared vertices.
+    std::vector<std::uint32_t> parent(nv);
+    std::iota(parent.begin(), parent.end(), 0u);
+    for (const Triangle& t : mesh.triangles) {
+        unite(parent, t[0], t[1]);
+        unite(parent, t[0], t[2]);
+    }
+    for (std::size_t v = 0; v < nv; ++v)
+        if (used[v] && find_root(parent, static_cast<std::uint32_t>(v)) == v) ++r.components;
+
+    // Singular vertices: on a non-manifold edge, or whose triangles form more
+    // than one fan (triangles around v joined through manifold edges at v).
+    std::vector<std::vector<std::uint32_t>> faces_of(nv);
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+        for (std::uint32_t v : mesh.triangles[f]) faces_of[v].push_back(static_cast<std::uint32_t>(f));
+    std::vector<std::uint32_t> local;
+    std::unordered_map<std::uint32_t, std::uint32_t> first_face_at;  // neighbour -> local face
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (!used[v]) continue;
+        if (on_nonmanifold[v]) {
+            ++r.singular_vertices;
+            continue;
+        }
+        const auto& fs = faces_of[v];
+        local.resize(fs.size());
+        std::iota(local.begin(), local.end(), 0u);
+        first_face_at.clear();
+        for (std::uint32_t i = 0; i < fs.size(); ++i)
+            for (std::uint32_t w : mesh.triangles[fs[i]]) {
+                if (w == v) continue;
+                auto [it, inserted] = first_face_at.emplace(w, i);
+                if (!inserted) unite(local, it->second, i);
+            }
+        std::size_t fans = 0;
+        for (std::uint32_t i = 0; i < local.size(); ++i)
+            if (find_root(local, i) == i) ++fans;
+        if (fans > 1) ++r.singular_vertices;
+    }
+    return r;
+}
+
+}  // namespace subdivtrace

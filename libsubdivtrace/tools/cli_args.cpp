@@ -1,0 +1,90 @@
+// Shared option parsing of the mesh commands (cli_args.h).
+#include "cli_args.h"
+
+#include <cstdio>
+
+#include "subdivtrace/mesh_io.h"
+#include "subdivtrace/uniform.h"
+
+namespace subdivtrace::cli {
+
+MeshArgs parse_mesh_args(const Args& args, unsigned accepted, int default_levels,
+                         bool output_required) {
+    MeshArgs out;
+    out.levels = default_levels;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        std::string arg = args[i];
+        if (arg == "--help" || arg == "-h") {
+            out.help = true;
+            return out;
+        }
+        if (arg.size() < 2 || arg[0] != '-') {
+            if (!out.mesh.empty())
+                throw UsageError{"more than one mesh given ('" + out.mesh + "' and '" + arg + "')"};
+            out.mesh = arg;
+            continue;
+        }
+        // --opt=value or --opt value
+        std::string value;
+        bool has_value = false;
+        const std::size_t eq = arg.find('=');
+        if (arg.compare(0, 2, "--") == 0 && eq != std::string::npos) {
+            value = arg.substr(eq + 1);
+            arg = arg.substr(0, eq);
+            has_value = true;
+        }
+        unsigned flag = 0;
+        if (arg == "-o" || arg == "--output") flag = k_arg_output;
+        else if (arg == "--scheme") flag = k_arg_scheme;
+        else if (arg == "--levels") flag = k_arg_levels;
+        else if (arg == "--name") flag = k_arg_name;
+        if (flag == 0 || !(accepted & flag)) throw UsageError{"unknown option '" + arg + "'"};
+        if (!has_value) {
+            if (i + 1 >= args.size()) throw UsageError{"option '" + arg + "' needs a value"};
+            value = args[++i];
+        }
+        if (value.empty()) throw UsageError{"option '" + arg + "' needs a value"};
+        switch (flag) {
+            case k_arg_output: out.output = value; break;
+            case k_arg_scheme: {
+                const auto kind = parse_scheme(value);
+                if (!kind)
+                    throw UsageError{"unknown scheme '" + value +
+                                     "' (expected normal, loop or butterfly)"};
+                out.scheme = *kind;
+                break;
+            }
+            case k_arg_levels: {
+                std::size_t used = 0;
+                int levels = -1;
+                try {
+                    levels = std::stoi(value, &used);
+                } catch (const std::exception&) {
+                    used = 0;
+                }
+                if (used != value.size() || levels < 0 || levels > k_max_uniform_levels)
+                    throw UsageError{"--levels expects an integer in 0.." +
+                                     std::to_string(k_max_uniform_levels) + ", got '" + value +
+                                     "'"};
+                out.levels = levels;
+                break;
+            }
+            case k_arg_name:
+                if (!is_pov_identifier(value))
+                    throw UsageError{"--name '" + value +
+                                     "' is not a POV-Ray identifier (a letter, then letters, "
+                                     "digits or '_', at most 40)"};
+                out.name = value;
+                break;
+        }
+    }
+    if (out.mesh.empty()) throw UsageError{"no mesh file given"};
+    if (output_required && out.output.empty()) throw UsageError{"no output file given (-o OUT)"};
+    return out;
+}
+
+void print_warnings(const std::vector<std::string>& warnings) {
+    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
+
+}  // namespace subdivtrace::cli

@@ -1,0 +1,39 @@
+#pragma once
+// Shared option parsing of the mesh commands (info, subdivide, export-mesh2):
+// one positional MESH, -o/--output, --scheme, --levels, --name, --help.
+
+#include <string>
+
+#include "commands.h"
+#include "subdivtrace/scheme.h"
+
+namespace subdivtrace::cli {
+
+/// Which options a command accepts (bit set).
+enum ArgFlags : unsigned {
+    k_arg_output = 1u,
+    k_arg_scheme = 2u,
+    k_arg_levels = 4u,
+    k_arg_name = 8u,
+};
+
+struct MeshArgs {
+    std::string mesh;
+    std::string output;
+    std::string name;  ///< empty = derive from the mesh file's stem
+    SchemeKind scheme = SchemeKind::normal;
+    int levels = 0;
+    bool help = false;
+};
+
+/// Parses `args`; options may be given as `--opt VALUE` or `--opt=VALUE`.
+/// Throws UsageError on an unknown option, a missing value, a bad scheme, a
+/// level outside 0..10, a bad --name, a missing MESH or (if `output_required`)
+/// a missing -o. With --help, returns at once with help = true.
+MeshArgs parse_mesh_args(const Args& args, unsigned accepted, int default_levels,
+                         bool output_required);
+
+/// Prints the reader's warnings to stderr, each prefixed "warning: ".
+void print_warnings(const std::vector<std::string>& warnings);
+
+}  // namespace subdivtrace::cli

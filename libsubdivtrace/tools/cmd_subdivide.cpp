@@ -1,0 +1,62 @@
+// `subdivtrace subdivide MESH -o OUT [--scheme S] [--levels K]`: uniform subdivision.
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+
+#include "cli_args.h"
+#include "commands.h"
+#include "subdivtrace/mesh_io.h"
+#include "subdivtrace/uniform.h"
+
+namespace subdivtrace::cli {
+
+namespace {
+
+const char* k_subdivide_help =
+    "usage: subdivtrace subdivide MESH -o OUT [--scheme S] [--levels K]\n"
+    "\n"
+    "Subdivides every triangle of MESH 1-to-4, K times (default 1, at most 10),\n"
+    "and writes OUT (.obj .off .ply .stl, by extension).\n"
+    "\n"
+    "  -o, --output OUT   output mesh file\n"
+    "  --scheme S         normal (default, the paper's), loop or butterfly\n"
+    "  --levels K         subdivision levels, 0..10 (1)\n";
+
+}  // namespace
+
+int run_subdivide(const Args& args) {
+    const MeshArgs a =
+        parse_mesh_args(args, k_arg_output | k_arg_scheme | k_arg_levels, 1, false);
+    if (a.help) {
+        std::fputs(k_subdivide_help, stdout);
+        return 0;
+    }
+    if (a.output.empty()) throw UsageError{"no output file given (-o OUT)"};
+    std::vector<std::string> warnings;
+    const Mesh mesh = read_mesh(a.mesh, &warnings);
+    print_warnings(warnings);
+
+    const auto start = std::chrono::steady_clock::now();
+    Mesh result;
+    try {
+        result = to_mesh(subdivide_uniform(mesh, a.scheme, a.levels));
+    } catch (const std::invalid_argument& e) {
+        throw MeshError(a.mesh + ": " + e.what());
+    } catch (const std::length_error&) {
+        throw MeshError(a.mesh + ": too large to subdivide " + std::to_string(a.levels) +
+                        " levels");
+    } catch (const std::bad_alloc&) {
+        throw MeshError(a.mesh + ": out of memory subdividing " + std::to_string(a.levels) +
+                        " levels");
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    write_mesh(a.output, result);
+    std::fprintf(stderr, "%s: %zu triangles -> %zu triangles (%s, %d level%s) in %.3f s -> %s\n",
+                 a.mesh.c_str(), mesh.triangles.size(), result.triangles.size(),
+                 scheme_name(a.scheme), a.levels, a.levels == 1 ? "" : "s", seconds,
+                 a.output.c_str());
+    return 0;
+}
+
+}  // namespace subdivtrace::cli
