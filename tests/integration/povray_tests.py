@@ -1,0 +1,474 @@
+#!/usr/bin/env python3
+"""Integration tests of the patched POV-Ray's subdivision_mesh primitive.
+
+usage: povray_tests.py --povray BIN --include DIR --work DIR
+                       [--cli BIN] [--source-dir DIR] TEST [TEST...]
+       povray_tests.py --list
+
+Each TEST renders small scenes (160x120, one thread unless stated) with the
+patched povray, headless, and checks the result. Exit status: 0 pass, 1 fail,
+77 skipped (something the test needs is missing). Only the standard library is
+used: images are written as binary PPM (+FP) and compared here.
+"""
+
+import argparse
+import math
+import os
+import re
+import subprocess
+import sys
+import time
+
+SKIP = 77
+WIDTH, HEIGHT = 160, 120
+
+
+class Failure(Exception):
+    pass
+
+
+class Skip(Exception):
+    pass
+
+
+# ---------------------------------------------------------------------------
+# Meshes
+
+
+def icosahedron():
+    """Vertices, faces (outward winding) and per-vertex normals/uvs of a unit
+    icosahedron; rotated so that no face is seen edge-on by the camera."""
+    t = (1.0 + math.sqrt(5.0)) / 2.0
+    raw = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0),
+           (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+           (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    norm = math.sqrt(1 + t * t)
+    verts = [(x / norm, y / norm, z / norm) for x, y, z in raw]
+    faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11),
+             (1, 5, 9), (5, 11, 4), (11, 10, 2), (10, 7, 6), (7, 1, 8),
+             (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9),
+             (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    normals = list(verts)  # a sphere's normals: the angle-weighted ones too
+    uvs = [(0.5 + math.atan2(z, x) / (2 * math.pi), math.acos(max(-1.0, min(1.0, y))) / math.pi)
+           for x, y, z in verts]
+    return verts, faces, normals, uvs
+
+
+def fmt_vec(v):
+    return "<" + ", ".join("%.17g" % c for c in v) + ">"
+
+
+def mesh2_body(verts, faces, normals=None, uvs=None):
+    """The inside of a mesh2 block; normals and uvs per vertex."""
+    out = ["vertex_vectors { %d, %s }" % (len(verts), ", ".join(fmt_vec(v) for v in verts))]
+    if normals:
+        out.append("normal_vectors { %d, %s }" % (len(normals), ", ".join(fmt_vec(n) for n in normals)))
+    if uvs:
+        out.append("uv_vectors { %d, %s }" % (len(uvs), ", ".join(fmt_vec(u) for u in uvs)))
+    out.append("face_indices { %d, %s }" % (len(faces), ", ".join("<%d, %d, %d>" % f for f in faces)))
+    return "\n    ".join(out)
+
+
+def write_obj(path, verts, faces):
+    with open(path, "w") as f:
+        for v in verts:
+            f.write("v %.17g %.17g %.17g\n" % v)
+        for a, b, c in faces:
+            f.write("f %d %d %d\n" % (a + 1, b + 1, c + 1))
+
+
+# ---------------------------------------------------------------------------
+# Rendering and images
+
+SCENE_HEADER = """#version 3.7;
+global_settings { assumed_gamma 1.0 }
+camera { location <0, 0.4, -4> look_at <0, 0, 0> angle 40 }
+light_source { <4, 6, -5> rgb 1 }
+light_source { <-6, 2, -3> rgb 0.3 shadowless }
+background { rgb <0.15, 0.18, 0.25> }
+"""
+
+
+class Context:
+    def __init__(self, args, name):
+        absolute = lambda p: os.path.abspath(p) if p else p
+        self.povray = absolute(args.povray)
+        self.include = absolute(args.include)
+        self.cli = absolute(args.cli)
+        self.source_dir = absolute(args.source_dir)
+        self.work = os.path.join(absolute(args.work), name)
+        os.makedirs(self.work, exist_ok=True)
+        if not (self.povray and os.access(self.povray, os.X_OK)):
+            raise Skip("patched povray not built: %s" % self.povray)
+
+    def path(self, name):
+        return os.path.join(self.work, name)
+
+    def render(self, name, scene, threads=1, expect_ok=True, extra=()):
+        """Writes scene to NAME.pov, renders NAME.ppm; returns (rc, stderr, image, seconds)."""
+        pov = self.path(name + ".pov")
+        out = self.path(name + ".ppm")
+        with open(pov, "w") as f:
+            f.write(scene)
+        if os.path.exists(out):
+            os.remove(out)
+        cmd = [self.povray, "+I" + pov, "+O" + out, "+FP", "+W%d" % WIDTH, "+H%d" % HEIGHT,
+               "-D", "-V", "+WT%d" % threads, "+L" + self.include, "+L" + self.work]
+        cmd += list(extra)
+        start = time.monotonic()
+        proc = subprocess.run(cmd, cwd=self.work, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              timeout=300)
+        seconds = time.monotonic() - start
+        err = proc.stderr.decode("utf-8", "replace") + proc.stdout.decode("utf-8", "replace")
+        with open(self.path(name + ".log"), "w") as f:
+            f.write(" ".join(cmd) + "\n" + err)
+        image = None
+        if proc.returncode == 0 and os.path.exists(out):
+            image = read_ppm(out)
+        if expect_ok and (proc.returncode != 0 or image is None):
+            raise Failure("%s: povray exited %d\n%s" % (name, proc.returncode, tail(err)))
+        print("  rendered %-28s %6.2f s" % (name, seconds))
+        return proc.returncode, err, image, seconds
+
+
+def tail(text, n=15):
+    return "\n".join(text.strip().splitlines()[-n:])
+
+
+def read_ppm(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    # Header: P6, width, height, maxval, one whitespace; POV-Ray adds '#' comments
+    # (software, render date) between the fields.
+    m = re.match(rb"P6(?:\s+|#[^\n]*\n)+(\d+)(?:\s+|#[^\n]*\n)+(\d+)(?:\s+|#[^\n]*\n)+(\d+)\s", data)
+    if not m:
+        raise Failure("%s: not a binary PPM" % path)
+    w, h, maxval = int(m.group(1)), int(m.group(2)), int(m.group(3))
+    if maxval != 255:
+        raise Failure("%s: expected 8-bit PPM, maxval %d" % (path, maxval))
+    pixels = data[m.end():m.end() + w * h * 3]
+    if len(pixels) != w * h * 3:
+        raise Failure("%s: truncated" % path)
+    return (w, h, pixels)
+
+
+def compare(a, b):
+    """(fraction of pixels whose largest channel difference exceeds 2/255,
+    mean absolute channel difference in 1/255 units, largest difference)."""
+    (wa, ha, pa), (wb, hb, pb) = a, b
+    if (wa, ha) != (wb, hb):
+        raise Failure("image sizes differ: %dx%d vs %dx%d" % (wa, ha, wb, hb))
+    over = 0
+    total = 0
+    largest = 0
+    for i in range(0, len(pa), 3):
+        d = max(abs(pa[i] - pb[i]), abs(pa[i + 1] - pb[i + 1]), abs(pa[i + 2] - pb[i + 2]))
+        total += abs(pa[i] - pb[i]) + abs(pa[i + 1] - pb[i + 1]) + abs(pa[i + 2] - pb[i + 2])
+        if d > 2:
+            over += 1
+        largest = max(largest, d)
+    n = wa * ha
+    return over / n, total / (3.0 * n), largest
+
+
+def coverage(image, background):
+    """Fraction of pixels that differ from the background colour by more than 2/255."""
+    w, h, p = image
+    hit = 0
+    for i in range(0, len(p), 3):
+        if max(abs(p[i + c] - background[c]) for c in range(3)) > 2:
+            hit += 1
+    return hit / (w * h)
+
+
+BACKGROUND_8BIT = None  # measured from a render of the empty scene when needed
+
+
+def assert_close(name, a, b, max_fraction, max_mean):
+    fraction, mean, largest = compare(a, b)
+    print("  %s: %.3f%% pixels differ by > 2/255, mean diff %.3f/255, max %d/255"
+          % (name, 100 * fraction, mean, largest))
+    if fraction > max_fraction or mean > max_mean:
+        raise Failure("%s: images differ more than allowed (%.3f%% > %.3f%% or mean %.3f > %.3f)"
+                      % (name, 100 * fraction, 100 * max_fraction, mean, max_mean))
+
+
+# Tolerances for "the same surface as mesh2". POV-Ray's mesh2 stores vertices
+# and normals in single precision (SNGL_VECT) and intersects in its own way;
+# libsubdivtrace works in double. The difference moves a silhouette or a
+# triangle edge by ~1e-7 of the object's size, which flips a pixel only where
+# a pixel centre lies that close to an edge, and changes shading by far less
+# than 1/255. So nearly every pixel must match to 2/255; 0.5% of the pixels
+# (96 of 19200) may differ (edge pixels, and shadow-terminator pixels where a
+# shadow ray grazes the surface), and the mean must stay under 0.5/255.
+SAME_FRACTION = 0.005
+SAME_MEAN = 0.5
+
+
+# ---------------------------------------------------------------------------
+# Tests
+
+def ico_texture(finish="specular 0.4 roughness 0.02"):
+    return ("texture { uv_mapping pigment { checker rgb <1, 0.55, 0.2> rgb <0.2, 0.4, 1> scale 0.125 } "
+            "finish { %s } }" % finish)
+
+
+def test_level0_equals_mesh2(ctx):
+    """max_level 0 is the base mesh: the same picture as native mesh2 with the
+    same vertices, normals and uvs (smooth shading, uv-mapped checker)."""
+    verts, faces, normals, uvs = icosahedron()
+    body = mesh2_body(verts, faces, normals, uvs)
+    xform = "rotate <20, 30, 0> scale 1.2"
+    native = SCENE_HEADER + "mesh2 { %s %s %s }\n" % (body, ico_texture(), xform)
+    subdiv = SCENE_HEADER + "subdivision_mesh { mesh2 { %s } max_level 0 %s %s }\n" % (
+        body, ico_texture(), xform)
+    _, _, a, _ = ctx.render("native", native)
+    _, _, b, _ = ctx.render("subdiv_level0", subdiv)
+    assert_close("level 0 vs mesh2", a, b, SAME_FRACTION, SAME_MEAN)
+
+
+def adaptive_scene(extra_objects=""):
+    verts, faces, normals, uvs = icosahedron()
+    body = mesh2_body(verts, faces, None, uvs)
+    return (SCENE_HEADER +
+            "plane { y, -1.3 pigment { checker rgb 0.9 rgb 0.3 } finish { reflection 0.25 } }\n"
+            "subdivision_mesh { mesh2 { %s } max_level 6 tolerance 0.5 %s "
+            "rotate <20, 30, 0> scale 1.2 }\n" % (body, ico_texture("specular 0.4 reflection 0.2"))
+            + extra_objects)
+
+
+def test_threads_identical(ctx):
+    """Pixels do not depend on the thread count: +WT1 and +WT2 give identical
+    images of an adaptive surface with reflections (secondary rays) and shadows."""
+    scene = adaptive_scene()
+    _, _, a, _ = ctx.render("wt1", scene, threads=1)
+    _, _, b, _ = ctx.render("wt2", scene, threads=2)
+    if a != b:
+        fraction, mean, largest = compare(a, b)
+        raise Failure("+WT1 and +WT2 differ: %.3f%% pixels, max %d/255" % (100 * fraction, largest))
+    print("  +WT1 == +WT2 (byte-identical)")
+
+
+def csg_test(ctx, op):
+    """CSG `op` of the primitive (max_level 0) with a sphere matches the same
+    CSG with a closed mesh2 (inside_vector set): all intersections and the
+    inside test agree with POV-Ray's own."""
+    verts, faces, normals, uvs = icosahedron()
+    body = mesh2_body(verts, faces, normals, uvs)
+    if op == "merge":
+        mat = "pigment { rgbf <1, 0.55, 0.2, 0.6> } finish { specular 0.3 }"
+    else:
+        mat = "pigment { rgb <1, 0.55, 0.2> } finish { specular 0.3 }"
+    other = "sphere { <0.55, 0.45, -0.6>, 0.7 }"
+    native = SCENE_HEADER + "%s { mesh2 { %s inside_vector <0.3, 0.5, 0.81> } %s %s rotate <20, 30, 0> scale 1.2 }\n" % (
+        op, body, other, mat)
+    subdiv = SCENE_HEADER + "%s { subdivision_mesh { mesh2 { %s } max_level 0 } %s %s rotate <20, 30, 0> scale 1.2 }\n" % (
+        op, body, other, mat)
+    _, _, a, _ = ctx.render("native_" + op, native)
+    _, _, b, _ = ctx.render("subdiv_" + op, subdiv)
+    assert_close("%s vs mesh2" % op, a, b, SAME_FRACTION, SAME_MEAN)
+    # The adaptive surface in the same CSG renders too (no reference to match).
+    adaptive = subdiv.replace("max_level 0", "max_level 5 tolerance 1")
+    ctx.render("adaptive_" + op, adaptive)
+
+
+def test_csg_difference(ctx):
+    csg_test(ctx, "difference")
+
+
+def test_csg_intersection(ctx):
+    csg_test(ctx, "intersection")
+
+
+def test_csg_merge(ctx):
+    csg_test(ctx, "merge")
+
+
+def test_features(ctx):
+    """A transformed (non-uniform scale, rotation, shear by matrix), textured,
+    reflective and refractive instance, copies of one declared object with
+    different transforms, and an inverse in a difference, all in one scene:
+    renders without error, draws something, and the summary has our stats."""
+    verts, faces, normals, uvs = icosahedron()
+    body = mesh2_body(verts, faces, None, uvs)
+    scene = (SCENE_HEADER +
+             "plane { y, -1.2 pigment { checker rgb 0.9 rgb 0.3 } }\n"
+             "#declare S = subdivision_mesh { mesh2 { %s } scheme loop max_level 6 tolerance 1 cache_mb 16 }\n"
+             "object { S scale <0.6, 0.9, 0.6> rotate <10, 40, 0> matrix <1,0,0, 0.3,1,0, 0,0,1, 0,0,0> translate <-1.3, 0, 0.5>\n"
+             "  %s }\n"
+             "object { S scale 0.7 translate <0.1, -0.3, -0.4>\n"
+             "  material { texture { pigment { rgbf <0.9, 1, 0.9, 0.85> } finish { reflection 0.1 specular 0.6 } }\n"
+             "  interior { ior 1.5 } } }\n"
+             "difference { box { <-0.5, -0.5, -0.5>, <0.5, 0.5, 0.5> } object { S inverse scale 0.65 }\n"
+             "  pigment { rgb <0.3, 0.9, 0.4> } rotate y*25 translate <1.4, 0, 0.8> }\n"
+             % (body, ico_texture("specular 0.4 reflection 0.3")))
+    rc, err, image, _ = ctx.render("features", scene)
+    if "Subdivision Mesh" not in err or "Subdivision mesh deepest level" not in err:
+        raise Failure("render summary lacks the subdivision_mesh statistics:\n%s" % tail(err, 40))
+    m = re.search(r"Subdivision mesh deepest level:\s+(-?\d+)", err)
+    if not m or int(m.group(1)) < 1:
+        raise Failure("expected adaptive refinement below level 0, summary says %s" % (m and m.group(1)))
+    _, _, empty, _ = ctx.render("features_empty", SCENE_HEADER)
+    bg = empty[2][0:3]
+    cov = coverage(image, bg)
+    print("  %.1f%% of the pixels show objects" % (100 * cov))
+    if cov < 0.3:
+        raise Failure("only %.1f%% of the image differs from the background" % (100 * cov))
+
+
+def test_open_mesh(ctx):
+    """An open mesh (the icosahedron without the five faces round one vertex)
+    renders as a patch: visible from both sides, no inside."""
+    verts, faces, normals, uvs = icosahedron()
+    open_faces = [f for f in faces if 3 not in f]
+    body = mesh2_body(verts, open_faces, None, uvs)
+    scene = (SCENE_HEADER +
+             "subdivision_mesh { mesh2 { %s } max_level 5 %s rotate x*70 scale 1.2 }\n" % (body, ico_texture()))
+    rc, err, image, _ = ctx.render("open", scene)
+    _, _, empty, _ = ctx.render("open_empty", SCENE_HEADER)
+    cov = coverage(image, empty[2][0:3])
+    print("  %.1f%% of the pixels show the open mesh" % (100 * cov))
+    if cov < 0.1:
+        raise Failure("open mesh not visible")
+
+
+BAD_CASES = {
+    # name: (lines of the subdivision_mesh block, 1-based line within the
+    #        block that the error must name, text the message must contain)
+    "negative_tolerance": (["  tolerance -0.5"], 1, "tolerance must not be negative"),
+    "negative_max_level": (["  max_level -1"], 1, "max_level must be an integer"),
+    "max_level_over_cap": (["  max_level {cap_plus_one}"], 1, "max_level must be an integer from 0 to {cap}"),
+    "unknown_scheme": (["  scheme catmull"], 1, "Unknown subdivision scheme"),
+    "cache_mb_zero": (["  cache_mb 0"], 1, "cache_mb must be at least 1"),
+    "missing_file": (None, 0, "no_such_mesh.obj"),
+    "index_out_of_range": ("bad_index", 0, "mesh2"),
+}
+
+
+def max_level_cap(ctx):
+    header = os.path.join(ctx.source_dir or "", "libsubdivtrace/include/subdivtrace/tracer.h")
+    try:
+        with open(header) as f:
+            m = re.search(r"k_max_level_cap\s*=\s*(\d+)", f.read())
+        return int(m.group(1))
+    except (OSError, AttributeError):
+        raise Skip("cannot read k_max_level_cap from %s" % header)
+
+
+def bad_case_test(ctx, name):
+    """A bad subdivision_mesh is a parse error: povray exits non-zero and the
+    message names the right line."""
+    lines, rel_line, text = BAD_CASES[name]
+    verts, faces, normals, uvs = icosahedron()
+    cap = max_level_cap(ctx)
+    text = text.format(cap=cap)
+    head = SCENE_HEADER.splitlines()
+    scene = list(head)
+    scene.append("// the object under test")
+    first = len(scene) + 1  # line number of "subdivision_mesh {"
+    if lines is None:
+        scene += ["subdivision_mesh {", '  file "no_such_mesh.obj"', "  pigment { rgb 1 }", "}"]
+        expect_line = first + 1
+    elif lines == "bad_index":
+        bad_faces = faces[:-1] + [(0, 1, 12)]
+        scene += ["subdivision_mesh {", "  mesh2 { %s }" % mesh2_body(verts, bad_faces).replace("\n", " "),
+                  "  pigment { rgb 1 }", "}"]
+        expect_line = first + 1
+    else:
+        scene += ["subdivision_mesh {", "  mesh2 { %s }" % mesh2_body(verts, faces).replace("\n", " ")]
+        scene += [l.format(cap_plus_one=cap + 1) for l in lines]
+        scene += ["  pigment { rgb 1 }", "}"]
+        expect_line = first + 1 + rel_line
+    rc, err, _, _ = ctx.render("bad_" + name, "\n".join(scene) + "\n", expect_ok=False)
+    if rc == 0:
+        raise Failure("povray accepted the bad scene (exit 0)")
+    # POV-Ray wraps long messages at 80 columns; join the continuation lines.
+    flat = re.sub(r"\n ", " ", err)
+    m = re.search(r"line (\d+): Parse Error: ([^\n]*)", flat)
+    if not m:
+        raise Failure("no 'line N: Parse Error' message:\n%s" % tail(err))
+    print("  exit %d, line %s: %s" % (rc, m.group(1), m.group(2)))
+    if int(m.group(1)) != expect_line:
+        raise Failure("error names line %s, expected %d" % (m.group(1), expect_line))
+    if text not in m.group(2):
+        raise Failure("message %r lacks %r" % (m.group(2), text))
+
+
+def uniform_level_test(ctx, scheme, level=2):
+    """max_level K with a tiny tolerance refines every ray to level K: the
+    picture of native mesh2 of the uniform level-K mesh (exported by the CLI,
+    with the level's normals)."""
+    if not (ctx.cli and os.access(ctx.cli, os.X_OK)):
+        raise Skip("subdivtrace CLI not built: %s" % ctx.cli)
+    verts, faces, normals, uvs = icosahedron()
+    obj = ctx.path("ico.obj")
+    write_obj(obj, verts, faces)
+    inc = ctx.path("ico_%s_l%d.inc" % (scheme, level))
+    ident = "Ico_%s_L%d" % (scheme.capitalize(), level)
+    cmd = [ctx.cli, "export-mesh2", obj, "-o", inc, "--scheme", scheme, "--levels", str(level),
+           "--name", ident]
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=120)
+    if proc.returncode != 0:
+        raise Failure("%s failed (%d):\n%s" % (" ".join(cmd), proc.returncode,
+                                               tail(proc.stdout.decode("utf-8", "replace"))))
+    mat = "pigment { rgb <1, 0.55, 0.2> } finish { specular 0.4 roughness 0.02 }"
+    xform = "rotate <20, 30, 0> scale 1.2"
+    native = SCENE_HEADER + '#include "%s"\nobject { %s %s %s }\n' % (os.path.basename(inc), ident, mat, xform)
+    subdiv = SCENE_HEADER + ('subdivision_mesh { file "ico.obj" scheme %s max_level %d tolerance 1e-6 %s %s }\n'
+                             % (scheme, level, mat, xform))
+    _, _, a, _ = ctx.render("native_%s_l%d" % (scheme, level), native)
+    _, err, b, _ = ctx.render("subdiv_%s_l%d" % (scheme, level), subdiv)
+    m = re.search(r"Subdivision mesh deepest level:\s+(-?\d+)", err)
+    if m and int(m.group(1)) != level:
+        raise Failure("deepest level reached is %s, expected %d" % (m.group(1), level))
+    assert_close("max_level %d (%s) vs uniform mesh2" % (level, scheme), a, b, SAME_FRACTION, SAME_MEAN)
+
+
+TESTS = {
+    "level0_equals_mesh2": test_level0_equals_mesh2,
+    "threads_identical": test_threads_identical,
+    "csg_difference": test_csg_difference,
+    "csg_intersection": test_csg_intersection,
+    "csg_merge": test_csg_merge,
+    "features": test_features,
+    "open_mesh": test_open_mesh,
+}
+for _name in BAD_CASES:
+    TESTS["bad_" + _name] = (lambda n: (lambda ctx: bad_case_test(ctx, n)))(_name)
+for _scheme in ("normal", "loop", "butterfly"):
+    TESTS["uniform_level2_" + _scheme] = (lambda s: (lambda ctx: uniform_level_test(ctx, s)))(_scheme)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--povray")
+    parser.add_argument("--include")
+    parser.add_argument("--work", default="integration_work")
+    parser.add_argument("--cli")
+    parser.add_argument("--source-dir")
+    parser.add_argument("--list", action="store_true")
+    parser.add_argument("tests", nargs="*")
+    args = parser.parse_args()
+    if args.list:
+        print("\n".join(TESTS))
+        return 0
+    unknown = [t for t in args.tests if t not in TESTS]
+    if unknown or not args.tests:
+        parser.error("unknown or no tests: %s (see --list)" % " ".join(unknown))
+    status = 0
+    for name in args.tests:
+        print("%s:" % name)
+        try:
+            TESTS[name](Context(args, name))
+            print("  PASS")
+        except Skip as e:
+            print("  SKIP: %s" % e)
+            status = status or SKIP
+        except Failure as e:
+            print("  FAIL: %s" % e)
+            status = 1
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())
