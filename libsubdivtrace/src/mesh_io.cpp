@@ -68,6 +68,12 @@ std::string quoted(std::string_view word) {
     return "'" + s + (word.size() > 40 ? "...'" : "'");
 }
 
+std::string format_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
 // ---------------------------------------------------------------------------
 // Polygons as parsed, before triangulation.
 
@@ -604,6 +610,8 @@ Mesh read_ply(const std::string& path, const std::string& data,
     if (lower(std::string(c.word())) != "ply" || !c.at_line_end(false))
         fail(path, "not a PLY file (missing 'ply' on the first line)");
     c.skip_line();
+    if (data.find("end_header") == std::string::npos)
+        fail(path, "missing 'end_header' (truncated header?)");
     int format = -1;
     std::vector<PlyElement> elements;
     bool header_done = false;
@@ -730,7 +738,7 @@ Mesh read_ply(const std::string& path, const std::string& data,
                 if (!(count >= 0) || count != std::floor(count) ||
                     exceeds(static_cast<std::int64_t>(count), item, in.remaining() + 1))
                     fail(path, in.where() + "list '" + p.name + "' claims " +
-                                   std::to_string(count) +
+                                   format_number(count) +
                                    " items, more than the file holds (truncated?)");
                 const auto k = static_cast<std::int64_t>(count);
                 const bool corners = is_face && static_cast<int>(i) == pfi;
@@ -743,7 +751,7 @@ Mesh read_ply(const std::string& path, const std::string& data,
                     const double v = in.read(p.type);
                     if (corners) {
                         if (!(v >= 0 && v < double(vertex->count)) || v != std::floor(v))
-                            fail(path, in.where() + "vertex index " + std::to_string(v) +
+                            fail(path, in.where() + "vertex index " + format_number(v) +
                                            " out of range (" + std::to_string(vertex->count) +
                                            " vertices)");
                         m.v.push_back(static_cast<std::int64_t>(v));
@@ -848,8 +856,12 @@ Mesh read_stl_ascii(const std::string& path, const std::string& data,
         if (c.eof())
             fail(path, c.where() + "unexpected end of file, expected '" + word + "' (truncated?)");
         const std::string_view w = c.word();
-        if (!equals_nocase(w, word))
+        if (!equals_nocase(w, word)) {
+            if (c.eof())
+                fail(path, c.where() + "unexpected end of file, expected '" + word +
+                               "' (truncated?)");
             fail(path, c.where() + "expected '" + word + "', got " + quoted(w));
+        }
     };
     expect("solid");
     c.skip_line();  // the solid's name
@@ -865,8 +877,12 @@ Mesh read_stl_ascii(const std::string& path, const std::string& data,
             c.skip_line();
             continue;
         }
-        if (!equals_nocase(w, "facet"))
+        if (!equals_nocase(w, "facet")) {
+            if (c.eof())
+                fail(path, c.where() + "unexpected end of file, expected 'facet' or "
+                                       "'endsolid' (truncated?)");
             fail(path, c.where() + "expected 'facet' or 'endsolid', got " + quoted(w));
+        }
         expect("normal");
         for (int i = 0; i < 3; ++i) {  // facet normals are not used (geometry decides)
             double ignored;
@@ -881,6 +897,8 @@ Mesh read_stl_ascii(const std::string& path, const std::string& data,
             const char* save = c.p;
             const std::string_view vw = c.word();
             if (!equals_nocase(vw, "vertex")) {
+                if (c.eof())
+                    fail(path, c.where() + "unexpected end of file inside a facet (truncated?)");
                 c.p = save;
                 break;
             }

@@ -89,7 +89,21 @@ void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b)
 
 }  // namespace
 
-bool is_degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+bool is_degenerate_triangle(const Vec3& a_in, const Vec3& b_in, const Vec3& c_in) {
+    // Scale by a power of two (exact) so the largest coordinate is near 1: the
+    // products below then neither overflow nor, for coordinates of similar
+    // magnitude, underflow (scale 1e-200 or 1e200 meshes stay exact).
+    double largest = 0.0;
+    for (const Vec3* p : {&a_in, &b_in, &c_in})
+        for (int i = 0; i < 3; ++i) largest = std::max(largest, std::abs((*p)[i]));
+    if (largest == 0.0) return true;
+    const int e = std::ilogb(largest);
+    Vec3 a, b, c;
+    for (int i = 0; i < 3; ++i) {
+        a[i] = std::ldexp(a_in[i], -e);
+        b[i] = std::ldexp(b_in[i], -e);
+        c[i] = std::ldexp(c_in[i], -e);
+    }
     // Collinear in 3-D iff collinear in all three axis projections.
     return orient2d_sign(a, b, c, 0, 1) == 0 && orient2d_sign(a, b, c, 1, 2) == 0 &&
            orient2d_sign(a, b, c, 2, 0) == 0;

@@ -1,0 +1,230 @@
+// The `subdivtrace` CLI as a user runs it: exit codes (0 ok, 1 bad input naming
+// the file, 2 usage error), and outputs read back with read_mesh.
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "subdivtrace/mesh_io.h"
+
+namespace fs = std::filesystem;
+using namespace subdivtrace;
+
+namespace {
+
+struct Result {
+    int code = -1;
+    std::string out;
+    std::string err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+/// Single-quotes an argument for /bin/sh.
+std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+struct Sandbox {
+    fs::path dir;
+    Sandbox() {
+        static int counter = 0;
+        dir = fs::temp_directory_path() / ("subdivtrace_cli_" + std::to_string(::getpid()) +
+                                           "_" + std::to_string(counter++));
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
+    ~Sandbox() {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+    std::string path(const std::string& name) const { return (dir / name).string(); }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(dir / name, std::ios::binary) << text;
+        return path(name);
+    }
+
+    /// Runs the CLI with `args`, capturing stdout, stderr and the exit code.
+    Result run(const std::vector<std::string>& args) const {
+        std::string cmd = shell_quote(SUBDIVTRACE_CLI);
+        for (const std::string& a : args) cmd += " " + shell_quote(a);
+        cmd += " >" + shell_quote(path("stdout.txt")) + " 2>" + shell_quote(path("stderr.txt"));
+        const int status = std::system(cmd.c_str());
+        Result r;
+        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.out = slurp(dir / "stdout.txt");
+        r.err = slurp(dir / "stderr.txt");
+        return r;
+    }
+};
+
+const std::string k_data = SUBDIVTRACE_TEST_DATA;
+const std::string k_cube = k_data + "/cube.obj";  // 8 vertices, 12 triangles
+const std::string k_quads = k_data + "/../../data/quad_blob.obj";
+
+}  // namespace
+
+TEST_CASE("cli: info prints the counts of a good mesh", "[cli]") {
+    Sandbox box;
+    const Result r = box.run({"info", k_cube});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("vertices:              8\n") != std::string::npos);
+    CHECK(r.out.find("triangles:             12\n") != std::string::npos);
+    CHECK(r.out.find("closed:                yes\n") != std::string::npos);
+    CHECK(r.err.empty());
+
+    // Polygons: warnings on stderr, prefixed.
+    const Result q = box.run({"info", k_quads});
+    REQUIRE(q.code == 0);
+    CHECK(q.err.rfind("warning: ", 0) == 0);
+    CHECK(q.err.find("triangulated") != std::string::npos);
+}
+
+TEST_CASE("cli: bad input exits 1 naming the file", "[cli]") {
+    Sandbox box;
+    const std::string missing = box.path("missing.obj");
+    const std::string huge = box.write("huge.off", "OFF\n3000000000 1 0\n0 0 0\n");
+    const std::string empty = box.write("empty.stl", "");
+    const std::string nan = box.write("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+    for (const std::string& file : {missing, huge, empty, nan}) {
+        for (const char* command : {"info", "subdivide", "export-mesh2"}) {
+            std::vector<std::string> args = {command, file};
+            if (std::string(command) != "info") {
+                args.push_back("-o");
+                args.push_back(box.path("out.obj"));
+            }
+            const Result r = box.run(args);
+            INFO(command << " " << file << ": " << r.err);
+            CHECK(r.code == 1);
+            CHECK(r.err.find(file + ": ") != std::string::npos);
+            CHECK_FALSE(fs::exists(box.path("out.obj")));
+        }
+    }
+    // An output that cannot be written is bad input too, and leaves nothing.
+    const std::string unwritable = box.path("no/such/dir/out.obj");
+    const Result w = box.run({"subdivide", k_cube, "-o", unwritable});
+    CHECK(w.code == 1);
+    CHECK(w.err.find(unwritable) != std::string::npos);
+    const Result x = box.run({"subdivide", k_cube, "-o", box.path("out.xyz")});
+    CHECK(x.code == 1);
+    CHECK(x.err.find("out.xyz") != std::string::npos);
+}
+
+TEST_CASE("cli: usage errors exit 2", "[cli]") {
+    Sandbox box;
+    const std::string out = box.path("out.obj");
+    const std::vector<std::vector<std::string>> bad = {
+        {"info"},
+        {"info", k_cube, "--bogus"},
+        {"info", k_cube, "-o", out},  // info has no output
+        {"info", k_cube, k_cube},
+        {"subdivide", k_cube},  // no -o
+        {"subdivide", k_cube, "-o"},
+        {"subdivide", k_cube, "-o", out, "--levels"},
+        {"subdivide", k_cube, "-o", out, "--levels", "11"},
+        {"subdivide", k_cube, "-o", out, "--levels", "-1"},
+        {"subdivide", k_cube, "-o", out, "--levels", "two"},
+        {"subdivide", k_cube, "-o", out, "--levels", "1.5"},
+        {"subdivide", k_cube, "-o", out, "--scheme", "catmull"},
+        {"subdivide", k_cube, "-o", out, "--name", "X"},  // only export-mesh2 has --name
+        {"export-mesh2", k_cube, "-o", out, "--name", "9lives"},
+        {"export-mesh2", k_cube, "-o", out, "--name", "a-b"},
+        {"frobnicate", k_cube},
+    };
+    for (const auto& args : bad) {
+        const Result r = box.run(args);
+        std::string joined;
+        for (const auto& a : args) joined += a + " ";
+        INFO(joined << "-> " << r.err);
+        CHECK(r.code == 2);
+        CHECK_FALSE(r.err.empty());
+        CHECK_FALSE(fs::exists(out));
+    }
+    for (const char* command : {"info", "subdivide", "export-mesh2"}) {
+        const Result r = box.run({command, "--help"});
+        CHECK(r.code == 0);
+        CHECK(r.out.find("usage: subdivtrace") != std::string::npos);
+    }
+}
+
+TEST_CASE("cli: subdivide --levels 2 of 12 triangles gives 192, every scheme", "[cli]") {
+    Sandbox box;
+    for (const char* scheme : {"normal", "loop", "butterfly"}) {
+        for (const char* ext : {"obj", "ply", "off", "stl"}) {
+            const std::string out = box.path(std::string("cube_") + scheme + "." + ext);
+            const Result r = box.run({"subdivide", k_cube, "-o", out, "--scheme", scheme,
+                                      "--levels", "2"});
+            INFO(scheme << " " << ext << ": " << r.err);
+            REQUIRE(r.code == 0);
+            CHECK(r.err.find("12 triangles -> 192 triangles") != std::string::npos);
+            const Mesh m = read_mesh(out);
+            CHECK(m.triangles.size() == 192);
+            CHECK(m.positions.size() == 98);  // V - E + F = 2: 8 + 18 + 72
+        }
+    }
+    // Default: normal scheme, one level; --opt=value works too.
+    const Result r = box.run({"subdivide", k_cube, "--output=" + box.path("d.obj")});
+    REQUIRE(r.code == 0);
+    CHECK(read_mesh(box.path("d.obj")).triangles.size() == 48);
+    CHECK(r.err.find("(normal, 1 level)") != std::string::npos);
+}
+
+TEST_CASE("cli: export-mesh2 writes a mesh2 include", "[cli]") {
+    Sandbox box;
+    const std::string out = box.path("cube.inc");
+    const Result r = box.run({"export-mesh2", k_cube, "-o", out});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string text = slurp(out);
+    CHECK(text.find("#declare Cube = mesh2 {") != std::string::npos);
+    CHECK(text.find("vertex_vectors {\n    8,") != std::string::npos);
+    CHECK(text.find("face_indices {\n    12,") != std::string::npos);
+
+    const Result n = box.run({"export-mesh2", k_cube, "-o", out, "--levels", "1", "--scheme",
+                              "loop", "--name", "Smooth_cube"});
+    REQUIRE(n.code == 0);
+    const std::string sub = slurp(out);
+    CHECK(sub.find("#declare Smooth_cube = mesh2 {") != std::string::npos);
+    CHECK(sub.find("face_indices {\n    48,") != std::string::npos);
+    CHECK(sub.find("normal_indices {\n    48,") != std::string::npos);
+}
+
+TEST_CASE("cli: stock POV-Ray renders the exported mesh2", "[cli][povray]") {
+    if (std::system("command -v povray >/dev/null 2>&1") != 0) {
+        WARN("povray not installed: skipped");
+        return;
+    }
+    Sandbox box;
+    const std::string inc = box.path("mesh.inc");
+    REQUIRE(box.run({"export-mesh2", k_cube, "-o", inc, "--levels", "1", "--name", "M"}).code ==
+            0);
+    const std::string scene = box.write(
+        "scene.pov",
+        "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n#include \"" + inc +
+            "\"\ncamera { location <2, 3, -4> look_at <0.5, 0.5, 0.5> }\n"
+            "light_source { <5, 10, -10> color rgb 1 }\n"
+            "object { M pigment { color rgb 1 } }\n");
+    const std::string cmd = "cd " + shell_quote(box.dir.string()) + " && povray +I" +
+                            shell_quote(scene) + " +O" + shell_quote(box.path("out.png")) +
+                            " +W32 +H24 -D -V -GA >povray.log 2>&1";
+    const int status = std::system(cmd.c_str());
+    INFO(slurp(box.dir / "povray.log"));
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 0);
+    CHECK(fs::exists(box.path("out.png")));
+}
