@@ -37,8 +37,8 @@ template <class V>
 void check_finite(const std::vector<V>& values, const char* what, const std::string& source) {
     for (std::size_t i = 0; i < values.size(); ++i)
         if (!is_finite(values[i]))
-            fail(source, std::string(what) + " " + std::to_string(i) +
-                             " is not finite " + format_vec(values[i]));
+            fail(source, std::string(what) + " " + std::to_string(i) + " is not finite " +
+                             format_vec(values[i]));
 }
 
 /// Checks one index triple of `list` (named `what`) against [0, count).
@@ -46,10 +46,11 @@ void check_range(const std::array<std::int64_t, 3>& idx, std::size_t count, cons
                  std::size_t face, const std::string& source) {
     for (std::int64_t i : idx)
         if (i < 0 || static_cast<std::uint64_t>(i) >= count)
-            fail(source, std::string(what) + " of face " + std::to_string(face) + ": index " +
-                             std::to_string(i) + " out of range (" + std::to_string(count) +
-                             (count == 0 ? " entries)" : " entries, valid 0.." +
-                                                             std::to_string(count - 1) + ")"));
+            fail(source,
+                 std::string(what) + " of face " + std::to_string(face) + ": index " +
+                     std::to_string(i) + " out of range (" + std::to_string(count) +
+                     (count == 0 ? " entries)"
+                                 : " entries, valid 0.." + std::to_string(count - 1) + ")"));
 }
 
 }  // namespace
@@ -83,9 +84,9 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
     for (std::size_t f = 0; f < n_faces; ++f) {
         check_range(arrays.face_indices[f], arrays.positions.size(), "vertex index", f, source);
         if (has_normals)
-            check_range(arrays.normal_indices.empty() ? arrays.face_indices[f]
-                                                      : arrays.normal_indices[f],
-                        arrays.normals.size(), "normal index", f, source);
+            check_range(
+                arrays.normal_indices.empty() ? arrays.face_indices[f] : arrays.normal_indices[f],
+                arrays.normals.size(), "normal index", f, source);
         if (has_uvs)
             check_range(arrays.uv_indices.empty() ? arrays.face_indices[f] : arrays.uv_indices[f],
                         arrays.uvs.size(), "uv index", f, source);
@@ -111,8 +112,7 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
                                   static_cast<std::uint32_t>(v[2])});
         for (int c = 0; c < 3; ++c) {
             if (has_normals) {
-                const auto& ni =
-                    arrays.normal_indices.empty() ? v : arrays.normal_indices[f];
+                const auto& ni = arrays.normal_indices.empty() ? v : arrays.normal_indices[f];
                 mesh.corner_normals.push_back(arrays.normals[static_cast<std::size_t>(ni[c])]);
             }
             if (has_uvs) {
@@ -122,8 +122,8 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
         }
     }
     if (mesh.triangles.empty())
-        fail(source, "no faces left: all " + std::to_string(n_faces) +
-                         " triangles repeat a vertex index");
+        fail(source,
+             "no faces left: all " + std::to_string(n_faces) + " triangles repeat a vertex index");
     if (dropped > 0 && warnings)
         warnings->push_back(source + ": dropped " + std::to_string(dropped) +
                             " triangle(s) that repeat a vertex index (first: face " +

@@ -15,12 +15,14 @@
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -81,10 +83,10 @@ struct Polygons {
     std::vector<Vec3> positions;
     std::vector<Vec3> normals;
     std::vector<Vec2> uvs;
-    std::vector<std::uint32_t> sizes;   // corners per polygon
-    std::vector<std::int64_t> v;        // corner vertex indices (0-based)
-    std::vector<std::int64_t> vn;       // empty or one per corner
-    std::vector<std::int64_t> vt;       // empty or one per corner
+    std::vector<std::uint32_t> sizes;  // corners per polygon
+    std::vector<std::int64_t> v;       // corner vertex indices (0-based)
+    std::vector<std::int64_t> vn;      // empty or one per corner
+    std::vector<std::int64_t> vt;      // empty or one per corner
 };
 
 /// Fan-triangulates and hands over to mesh_from_arrays, which checks ranges and
@@ -114,9 +116,8 @@ Mesh finish(Polygons& in, const std::string& path, std::vector<std::string>* war
     }
     if (polygons > 0 && warnings)
         warnings->push_back(path + ": fan-triangulated " + std::to_string(polygons) +
-                            " polygon(s) with up to " + std::to_string(largest) +
-                            " corners into " + std::to_string(a.face_indices.size()) +
-                            " triangles in all");
+                            " polygon(s) with up to " + std::to_string(largest) + " corners into " +
+                            std::to_string(a.face_indices.size()) + " triangles in all");
     return mesh_from_arrays(a, path, warnings);
 }
 
@@ -172,13 +173,34 @@ struct Cursor {
     std::string where() const { return "line " + std::to_string(line) + ": "; }
 };
 
+/// Parses a decimal number (also "nan", "inf") independently of the C locale,
+/// unlike strtod. Literals beyond the double range give +-inf (and are then
+/// rejected as non-finite) or 0 (underflow). Returns the end, or nullptr.
+const char* parse_double(const char* p, const char* end, double& value) {
+    const char* s = p;
+    if (s < end && *s == '+') {
+        ++s;
+        if (s < end && *s == '-') return nullptr;
+    }
+    const std::from_chars_result r = std::from_chars(s, end, value, std::chars_format::general);
+    if (r.ec == std::errc::invalid_argument) return nullptr;
+    if (r.ec == std::errc::result_out_of_range) {
+        const std::string_view text(s, static_cast<std::size_t>(r.ptr - s));
+        const std::size_t e = text.find_first_of("eE");
+        const bool underflow =
+            e != std::string_view::npos && e + 1 < text.size() && text[e + 1] == '-';
+        const double sign = text[0] == '-' ? -1.0 : 1.0;
+        value = underflow ? sign * 0.0 : sign * std::numeric_limits<double>::infinity();
+    }
+    return r.ptr;
+}
+
 /// Reads a number at the cursor (same line). False if there is none.
 bool read_double(Cursor& c, double& value) {
     c.skip_inline();
     if (c.eof() || *c.p == '\n') return false;
-    char* e = nullptr;
-    value = std::strtod(c.p, &e);
-    if (e == c.p || (e < c.end && !Cursor::space(*e))) return false;
+    const char* e = parse_double(c.p, c.end, value);
+    if (!e || e == c.p || (e < c.end && !Cursor::space(*e))) return false;
     c.p = e;
     return true;
 }
@@ -193,11 +215,11 @@ double expect_double(Cursor& c, const std::string& path, const char* what) {
         if (*c.p == '\n') fail(path, c.where() + "too few values in " + what);
         Cursor probe = c;
         probe.p = start;
-        fail(path, c.where() + "expected a number in " + what + ", got " +
-                       quoted(probe.word()));
+        fail(path, c.where() + "expected a number in " + what + ", got " + quoted(probe.word()));
     }
     if (!std::isfinite(v))
-        fail(path, c.where() + "non-finite value in " + what + " (" + std::string(start, c.p) + ")");
+        fail(path,
+             c.where() + "non-finite value in " + what + " (" + std::string(start, c.p) + ")");
     return v;
 }
 
@@ -216,8 +238,7 @@ std::int64_t expect_int_any(Cursor& c, const std::string& path, const char* what
     const long long v = std::strtoll(c.p, &e, 10);
     if (e == c.p || (e < c.end && !Cursor::space(*e))) {
         Cursor probe = c;
-        fail(path, c.where() + "expected an integer in " + what + ", got " +
-                       quoted(probe.word()));
+        fail(path, c.where() + "expected an integer in " + what + ", got " + quoted(probe.word()));
     }
     if (errno == ERANGE) fail(path, c.where() + "integer out of range in " + what);
     c.p = e;
@@ -284,14 +305,12 @@ Mesh read_obj(const std::string& path, const std::string& data,
 
     // Resolve an OBJ index (1-based, or negative = relative to the count so far).
     auto resolve = [&](std::int64_t idx, std::size_t count, const char* what) -> std::int64_t {
-        if (idx == 0)
-            fail(path, c.where() + what + " index 0 is invalid (OBJ indices start at 1)");
+        if (idx == 0) fail(path, c.where() + what + " index 0 is invalid (OBJ indices start at 1)");
         if (idx < 0) {
             const std::int64_t r = static_cast<std::int64_t>(count) + idx;
             if (r < 0)
                 fail(path, c.where() + "relative " + what + " index " + std::to_string(idx) +
-                               " out of range (" + std::to_string(count) +
-                               " defined so far)");
+                               " out of range (" + std::to_string(count) + " defined so far)");
             return r;
         }
         return idx - 1;
@@ -356,8 +375,8 @@ Mesh read_obj(const std::string& path, const std::string& data,
         for (std::uint32_t i = 0; i < m.sizes[f]; ++i, ++corner) {
             auto check = [&](std::int64_t idx, std::size_t count, const char* what) {
                 if (idx >= static_cast<std::int64_t>(count))
-                    fail(path, "line " + std::to_string(poly_line[f]) + ": " + what +
-                                   " index " + std::to_string(idx + 1) + " out of range (" +
+                    fail(path, "line " + std::to_string(poly_line[f]) + ": " + what + " index " +
+                                   std::to_string(idx + 1) + " out of range (" +
                                    std::to_string(count) + " defined)");
             };
             check(m.v[corner], m.positions.size(), "vertex");
@@ -365,15 +384,18 @@ Mesh read_obj(const std::string& path, const std::string& data,
             if (vn[corner] >= 0) check(vn[corner], m.normals.size(), "normal");
         }
     }
-    if (m.sizes.empty()) fail(path, "no faces (" + std::to_string(m.positions.size()) +
-                                        " vertices, but no 'f' lines)");
+    if (m.sizes.empty())
+        fail(path,
+             "no faces (" + std::to_string(m.positions.size()) + " vertices, but no 'f' lines)");
 
     // Corner attributes only if every corner has them.
-    if (corners_without_vt == 0 && !m.uvs.empty()) m.vt = std::move(vt);
+    if (corners_without_vt == 0 && !m.uvs.empty())
+        m.vt = std::move(vt);
     else if (corners_without_vt < m.v.size() && warnings)
         warnings->push_back(path + ": " + std::to_string(corners_without_vt) +
                             " face corner(s) have no texture coordinate: UVs ignored");
-    if (corners_without_vn == 0 && !m.normals.empty()) m.vn = std::move(vn);
+    if (corners_without_vn == 0 && !m.normals.empty())
+        m.vn = std::move(vn);
     else if (corners_without_vn < m.v.size() && warnings)
         warnings->push_back(path + ": " + std::to_string(corners_without_vn) +
                             " face corner(s) have no normal: normals ignored");
@@ -418,18 +440,18 @@ Mesh read_off(const std::string& path, const std::string& data,
     if (!c.at_line_end(true)) expect_int_any(c, path, "the edge count", true);
     c.skip_line();
     if (nv < 0 || nf < 0) fail(path, "negative count in header");
-    if (nv > k_max_count) fail(path, "header claims " + std::to_string(nv) +
-                                         " vertices (more than 2^32 - 1)");
-    if (nf > k_max_count) fail(path, "header claims " + std::to_string(nf) +
-                                         " faces (more than 2^32 - 1)");
+    if (nv > k_max_count)
+        fail(path, "header claims " + std::to_string(nv) + " vertices (more than 2^32 - 1)");
+    if (nf > k_max_count)
+        fail(path, "header claims " + std::to_string(nf) + " faces (more than 2^32 - 1)");
     // Each value takes at least a digit and a separator.
     const std::int64_t per_vertex = 2 * (3 + (has_normal ? 3 : 0) + (has_uv ? 2 : 0));
     const std::int64_t per_face = 2 * 4;
     const std::int64_t available = (c.end - c.p) + 1;
     if (exceeds(nv, per_vertex, available) || exceeds(nf, per_face, available) ||
         nv * per_vertex + nf * per_face > available)
-        fail(path, "header claims " + std::to_string(nv) + " vertices and " +
-                       std::to_string(nf) + " faces, but only " + std::to_string(available - 1) +
+        fail(path, "header claims " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                       " faces, but only " + std::to_string(available - 1) +
                        " bytes follow (truncated file or bad header)");
     if (nf == 0) fail(path, "no faces (header says 0)");
 
@@ -463,8 +485,8 @@ Mesh read_off(const std::string& path, const std::string& data,
             fail(path, c.where() + "face " + std::to_string(f) + " has " + std::to_string(k) +
                            " corners (at least 3 needed)");
         if (exceeds(k, 2, (c.end - c.p) + 1))
-            fail(path, c.where() + "face " + std::to_string(f) + " claims " +
-                           std::to_string(k) + " corners, more than the file holds (truncated?)");
+            fail(path, c.where() + "face " + std::to_string(f) + " claims " + std::to_string(k) +
+                           " corners, more than the file holds (truncated?)");
         for (std::int64_t i = 0; i < k; ++i) {
             const std::int64_t idx = expect_int_any(c, path, "a face", true);
             if (idx < 0 || idx >= nv)
@@ -590,8 +612,8 @@ private:
         double v = 0.0;
         if (!read_double(cur_, v)) {
             Cursor probe = cur_;
-            fail(path_, "line " + std::to_string(cur_.line) + ": expected a number in " +
-                            where() + "got " + quoted(probe.word()));
+            fail(path_, "line " + std::to_string(cur_.line) + ": expected a number in " + where() +
+                            "got " + quoted(probe.word()));
         }
         return v;
     }
@@ -619,10 +641,14 @@ Mesh read_ply(const std::string& path, const std::string& data,
         const std::string_view kw = c.word();
         if (kw == "format") {
             const std::string_view f = c.word();
-            if (f == "ascii") format = 0;
-            else if (f == "binary_little_endian") format = 1;
-            else if (f == "binary_big_endian") format = 2;
-            else fail(path, c.where() + "unknown PLY format " + quoted(f));
+            if (f == "ascii")
+                format = 0;
+            else if (f == "binary_little_endian")
+                format = 1;
+            else if (f == "binary_big_endian")
+                format = 2;
+            else
+                fail(path, c.where() + "unknown PLY format " + quoted(f));
         } else if (kw == "element") {
             PlyElement e;
             e.name = std::string(c.word());
@@ -679,8 +705,7 @@ Mesh read_ply(const std::string& path, const std::string& data,
     };
     const int px = find(*vertex, {"x"}), py = find(*vertex, {"y"}), pz = find(*vertex, {"z"});
     if (px < 0 || py < 0 || pz < 0) fail(path, "vertex element lacks x, y or z");
-    const int pnx = find(*vertex, {"nx"}), pny = find(*vertex, {"ny"}),
-              pnz = find(*vertex, {"nz"});
+    const int pnx = find(*vertex, {"nx"}), pny = find(*vertex, {"ny"}), pnz = find(*vertex, {"nz"});
     const int pu = find(*vertex, {"u", "s", "texture_u", "texture_s"});
     const int pv = find(*vertex, {"v", "t", "texture_v", "texture_t"});
     const int pfi = find(*face, {"vertex_indices", "vertex_index"});
@@ -703,9 +728,12 @@ Mesh read_ply(const std::string& path, const std::string& data,
         for (std::size_t i = 0; i < e.props.size(); ++i) {
             const PlyProperty& p = e.props[i];
             const bool face_list = &e == face && static_cast<int>(i) == pfi;
-            if (format == 0) each += 2 + (face_list ? 6 : 0);
-            else if (p.is_list) each += ply_size(p.count_type) + (face_list ? 3 * ply_size(p.type) : 0);
-            else each += ply_size(p.type);
+            if (format == 0)
+                each += 2 + (face_list ? 6 : 0);
+            else if (p.is_list)
+                each += ply_size(p.count_type) + (face_list ? 3 * ply_size(p.type) : 0);
+            else
+                each += ply_size(p.type);
         }
         if (exceeds(e.count, each, available + 1) || needed + e.count * each > available + 1)
             fail(path, "header claims " + std::to_string(e.count) + " '" + e.name +
@@ -737,8 +765,7 @@ Mesh read_ply(const std::string& path, const std::string& data,
                 const std::int64_t item = format == 0 ? 2 : ply_size(p.type);
                 if (!(count >= 0) || count != std::floor(count) ||
                     exceeds(static_cast<std::int64_t>(count), item, in.remaining() + 1))
-                    fail(path, in.where() + "list '" + p.name + "' claims " +
-                                   format_number(count) +
+                    fail(path, in.where() + "list '" + p.name + "' claims " + format_number(count) +
                                    " items, more than the file holds (truncated?)");
                 const auto k = static_cast<std::int64_t>(count);
                 const bool corners = is_face && static_cast<int>(i) == pfi;
@@ -783,9 +810,8 @@ Mesh read_ply(const std::string& path, const std::string& data,
                         m.uvs.emplace_back(list_uv[2 * j], list_uv[2 * j + 1]);
                     }
                 } else {
-                    fail(path, in.where() + "texcoord list has " +
-                                   std::to_string(list_uv.size()) + " values, expected " +
-                                   std::to_string(2 * k));
+                    fail(path, in.where() + "texcoord list has " + std::to_string(list_uv.size()) +
+                                   " values, expected " + std::to_string(2 * k));
                 }
             }
         }
@@ -858,8 +884,8 @@ Mesh read_stl_ascii(const std::string& path, const std::string& data,
         const std::string_view w = c.word();
         if (!equals_nocase(w, word)) {
             if (c.eof())
-                fail(path, c.where() + "unexpected end of file, expected '" + word +
-                               "' (truncated?)");
+                fail(path,
+                     c.where() + "unexpected end of file, expected '" + word + "' (truncated?)");
             fail(path, c.where() + "expected '" + word + "', got " + quoted(w));
         }
     };
@@ -867,7 +893,8 @@ Mesh read_stl_ascii(const std::string& path, const std::string& data,
     c.skip_line();  // the solid's name
     for (;;) {
         c.skip_all(false);
-        if (c.eof()) fail(path, c.where() + "unexpected end of file, missing 'endsolid' (truncated?)");
+        if (c.eof())
+            fail(path, c.where() + "unexpected end of file, missing 'endsolid' (truncated?)");
         const std::string_view w = c.word();
         if (equals_nocase(w, "endsolid")) {
             c.skip_line();
@@ -879,8 +906,9 @@ Mesh read_stl_ascii(const std::string& path, const std::string& data,
         }
         if (!equals_nocase(w, "facet")) {
             if (c.eof())
-                fail(path, c.where() + "unexpected end of file, expected 'facet' or "
-                                       "'endsolid' (truncated?)");
+                fail(path, c.where() +
+                               "unexpected end of file, expected 'facet' or "
+                               "'endsolid' (truncated?)");
             fail(path, c.where() + "expected 'facet' or 'endsolid', got " + quoted(w));
         }
         expect("normal");
@@ -910,8 +938,8 @@ Mesh read_stl_ascii(const std::string& path, const std::string& data,
             ++k;
         }
         if (c.eof()) fail(path, c.where() + "unexpected end of file inside a facet (truncated?)");
-        if (k < 3) fail(path, c.where() + "facet with " + std::to_string(k) +
-                                  " vertices (3 needed)");
+        if (k < 3)
+            fail(path, c.where() + "facet with " + std::to_string(k) + " vertices (3 needed)");
         m.sizes.push_back(k);
         expect("endloop");
         expect("endfacet");
@@ -954,8 +982,8 @@ Mesh read_stl(const std::string& path, const std::string& data,
 /// Writes through `body` into a temporary file beside `path`, then renames it.
 void write_atomically(const std::string& path, const std::function<void(std::FILE*)>& body) {
     static std::atomic<int> counter{0};
-    const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "_" +
-                            std::to_string(counter++);
+    const std::string tmp =
+        path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f) fail(path, std::string("cannot write file (") + std::strerror(errno) + ")");
     try {
@@ -1131,10 +1159,14 @@ void write_mesh(const std::string& path, const Mesh& mesh) {
         fail(path, "cannot write format '" + ext + "' (expected .obj, .off, .ply or .stl)");
     validate_mesh(mesh, path);
     write_atomically(path, [&](std::FILE* f) {
-        if (ext == "obj") write_obj(f, mesh);
-        else if (ext == "off") write_off(f, mesh);
-        else if (ext == "ply") write_ply(f, mesh);
-        else write_stl(f, mesh);
+        if (ext == "obj")
+            write_obj(f, mesh);
+        else if (ext == "off")
+            write_off(f, mesh);
+        else if (ext == "ply")
+            write_ply(f, mesh);
+        else
+            write_stl(f, mesh);
     });
 }
 
@@ -1196,9 +1228,8 @@ std::string mesh2_text(const Mesh& mesh, const std::string& ident) {
             emit("<%.17g, %.17g, %.17g>", n.x, n.y, n.z);
         });
     if (mesh.has_uvs())
-        section("uv_vectors", uvs.values.size(), [&](std::size_t i) {
-            emit("<%.17g, %.17g>", uvs.values[i].x, uvs.values[i].y);
-        });
+        section("uv_vectors", uvs.values.size(),
+                [&](std::size_t i) { emit("<%.17g, %.17g>", uvs.values[i].x, uvs.values[i].y); });
     const std::size_t nt = mesh.triangles.size();
     section("face_indices", nt, [&](std::size_t i) {
         const Triangle& t = mesh.triangles[i];

@@ -191,7 +191,8 @@ MeshReport analyze_mesh(const Mesh& mesh) {
     // than one fan (triangles around v joined through manifold edges at v).
     std::vector<std::vector<std::uint32_t>> faces_of(nv);
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
-        for (std::uint32_t v : mesh.triangles[f]) faces_of[v].push_back(static_cast<std::uint32_t>(f));
+        for (std::uint32_t v : mesh.triangles[f])
+            faces_of[v].push_back(static_cast<std::uint32_t>(f));
     std::vector<std::uint32_t> local;
     std::unordered_map<std::uint32_t, std::uint32_t> first_face_at;  // neighbour -> local face
     for (std::size_t v = 0; v < nv; ++v) {

@@ -34,10 +34,14 @@ MeshArgs parse_mesh_args(const Args& args, unsigned accepted, int default_levels
             has_value = true;
         }
         unsigned flag = 0;
-        if (arg == "-o" || arg == "--output") flag = k_arg_output;
-        else if (arg == "--scheme") flag = k_arg_scheme;
-        else if (arg == "--levels") flag = k_arg_levels;
-        else if (arg == "--name") flag = k_arg_name;
+        if (arg == "-o" || arg == "--output")
+            flag = k_arg_output;
+        else if (arg == "--scheme")
+            flag = k_arg_scheme;
+        else if (arg == "--levels")
+            flag = k_arg_levels;
+        else if (arg == "--name")
+            flag = k_arg_name;
         if (flag == 0 || !(accepted & flag)) throw UsageError{"unknown option '" + arg + "'"};
         if (!has_value) {
             if (i + 1 >= args.size()) throw UsageError{"option '" + arg + "' needs a value"};

@@ -35,8 +35,8 @@ std::string file_stem(const std::string& path) {
 }  // namespace
 
 int run_export_mesh2(const Args& args) {
-    const MeshArgs a = parse_mesh_args(
-        args, k_arg_output | k_arg_scheme | k_arg_levels | k_arg_name, 0, false);
+    const MeshArgs a =
+        parse_mesh_args(args, k_arg_output | k_arg_scheme | k_arg_levels | k_arg_name, 0, false);
     if (a.help) {
         std::fputs(k_export_help, stdout);
         return 0;
@@ -57,15 +57,16 @@ int run_export_mesh2(const Args& args) {
             throw MeshError(a.mesh + ": too large to subdivide " + std::to_string(a.levels) +
                             " levels");
         } catch (const std::bad_alloc&) {
-            throw MeshError(a.mesh + ": out of memory subdividing " +
-                            std::to_string(a.levels) + " levels");
+            throw MeshError(a.mesh + ": out of memory subdividing " + std::to_string(a.levels) +
+                            " levels");
         }
     }
     const std::string ident = a.name.empty() ? pov_identifier(file_stem(a.mesh)) : a.name;
     write_mesh2(a.output, mesh, ident);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "%s: %zu triangles -> %zu triangles (%s, %d level%s) in %.3f s -> %s as %s\n",
+    std::fprintf(stderr,
+                 "%s: %zu triangles -> %zu triangles (%s, %d level%s) in %.3f s -> %s as %s\n",
                  a.mesh.c_str(), base, mesh.triangles.size(), scheme_name(a.scheme), a.levels,
                  a.levels == 1 ? "" : "s", seconds, a.output.c_str(), ident.c_str());
     return 0;

@@ -49,9 +49,8 @@ int run_info(const Args& args) {
     for (std::size_t k = 0; k < r.valence_histogram.size(); ++k)
         if (r.valence_histogram[k] > 0) std::printf(" %zu:%zu", k, r.valence_histogram[k]);
     std::printf("\n");
-    std::printf("bounds:                (%.9g, %.9g, %.9g) .. (%.9g, %.9g, %.9g)\n",
-                r.bounds.lo.x, r.bounds.lo.y, r.bounds.lo.z, r.bounds.hi.x, r.bounds.hi.y,
-                r.bounds.hi.z);
+    std::printf("bounds:                (%.9g, %.9g, %.9g) .. (%.9g, %.9g, %.9g)\n", r.bounds.lo.x,
+                r.bounds.lo.y, r.bounds.lo.z, r.bounds.hi.x, r.bounds.hi.y, r.bounds.hi.z);
     return 0;
 }
 

@@ -25,8 +25,7 @@ const char* k_subdivide_help =
 }  // namespace
 
 int run_subdivide(const Args& args) {
-    const MeshArgs a =
-        parse_mesh_args(args, k_arg_output | k_arg_scheme | k_arg_levels, 1, false);
+    const MeshArgs a = parse_mesh_args(args, k_arg_output | k_arg_scheme | k_arg_levels, 1, false);
     if (a.help) {
         std::fputs(k_subdivide_help, stdout);
         return 0;

@@ -43,8 +43,8 @@ struct Sandbox {
     fs::path dir;
     Sandbox() {
         static int counter = 0;
-        dir = fs::temp_directory_path() / ("subdivtrace_cli_" + std::to_string(::getpid()) +
-                                           "_" + std::to_string(counter++));
+        dir = fs::temp_directory_path() /
+              ("subdivtrace_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
         fs::remove_all(dir);
         fs::create_directories(dir);
     }
@@ -167,8 +167,8 @@ TEST_CASE("cli: subdivide --levels 2 of 12 triangles gives 192, every scheme", "
     for (const char* scheme : {"normal", "loop", "butterfly"}) {
         for (const char* ext : {"obj", "ply", "off", "stl"}) {
             const std::string out = box.path(std::string("cube_") + scheme + "." + ext);
-            const Result r = box.run({"subdivide", k_cube, "-o", out, "--scheme", scheme,
-                                      "--levels", "2"});
+            const Result r =
+                box.run({"subdivide", k_cube, "-o", out, "--scheme", scheme, "--levels", "2"});
             INFO(scheme << " " << ext << ": " << r.err);
             REQUIRE(r.code == 0);
             CHECK(r.err.find("12 triangles -> 192 triangles") != std::string::npos);
@@ -211,14 +211,12 @@ TEST_CASE("cli: stock POV-Ray renders the exported mesh2", "[cli][povray]") {
     }
     Sandbox box;
     const std::string inc = box.path("mesh.inc");
-    REQUIRE(box.run({"export-mesh2", k_cube, "-o", inc, "--levels", "1", "--name", "M"}).code ==
-            0);
+    REQUIRE(box.run({"export-mesh2", k_cube, "-o", inc, "--levels", "1", "--name", "M"}).code == 0);
     const std::string scene = box.write(
-        "scene.pov",
-        "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n#include \"" + inc +
-            "\"\ncamera { location <2, 3, -4> look_at <0.5, 0.5, 0.5> }\n"
-            "light_source { <5, 10, -10> color rgb 1 }\n"
-            "object { M pigment { color rgb 1 } }\n");
+        "scene.pov", "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n#include \"" + inc +
+                         "\"\ncamera { location <2, 3, -4> look_at <0.5, 0.5, 0.5> }\n"
+                         "light_source { <5, 10, -10> color rgb 1 }\n"
+                         "object { M pigment { color rgb 1 } }\n");
     const std::string cmd = "cd " + shell_quote(box.dir.string()) + " && povray +I" +
                             shell_quote(scene) + " +O" + shell_quote(box.path("out.png")) +
                             " +W32 +H24 -D -V -GA >povray.log 2>&1";

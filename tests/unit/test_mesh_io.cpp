@@ -41,9 +41,8 @@ struct TempDir {
     fs::path dir;
     TempDir() {
         static int counter = 0;
-        dir = fs::temp_directory_path() /
-              ("subdivtrace_mesh_io_" + std::to_string(::getpid()) + "_" +
-               std::to_string(counter++));
+        dir = fs::temp_directory_path() / ("subdivtrace_mesh_io_" + std::to_string(::getpid()) +
+                                           "_" + std::to_string(counter++));
         fs::remove_all(dir);
         fs::create_directories(dir);
     }
@@ -114,7 +113,8 @@ std::string ply(const Mesh& mesh, const std::vector<Vec3>& normals, const std::s
                     std::to_string(mesh.positions.size()) +
                     "\nproperty float x\nproperty float y\nproperty float z\n"
                     "property float nx\nproperty float ny\nproperty float nz\n"
-                    "element face " + std::to_string(mesh.triangles.size()) +
+                    "element face " +
+                    std::to_string(mesh.triangles.size()) +
                     "\nproperty list uchar int vertex_indices\nend_header\n";
     const bool ascii = format == "ascii";
     const bool big = format == "binary_big_endian";
@@ -124,9 +124,9 @@ std::string ply(const Mesh& mesh, const std::vector<Vec3>& normals, const std::s
         const Vec3& n = normals[v];
         if (ascii) {
             std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g %.17g %.17g %.17g\n",
-                          static_cast<float>(p.x), static_cast<float>(p.y),
-                          static_cast<float>(p.z), static_cast<float>(n.x),
-                          static_cast<float>(n.y), static_cast<float>(n.z));
+                          static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z),
+                          static_cast<float>(n.x), static_cast<float>(n.y),
+                          static_cast<float>(n.z));
             s += buf;
         } else {
             for (int i = 0; i < 3; ++i) put<float>(s, static_cast<float>(p[i]), big);
@@ -155,7 +155,8 @@ void require_same(const Mesh& a, const Mesh& b) {
     for (std::size_t i = 0; i < a.corner_normals.size(); ++i)
         REQUIRE(a.corner_normals[i] == b.corner_normals[i]);
     REQUIRE(a.corner_uvs.size() == b.corner_uvs.size());
-    for (std::size_t i = 0; i < a.corner_uvs.size(); ++i) REQUIRE(a.corner_uvs[i] == b.corner_uvs[i]);
+    for (std::size_t i = 0; i < a.corner_uvs.size(); ++i)
+        REQUIRE(a.corner_uvs[i] == b.corner_uvs[i]);
 }
 
 /// Reading `path` throws a MeshError naming the file and containing `reason`.
@@ -269,10 +270,10 @@ TEST_CASE("mesh_io: OBJ v/vt/vn corners become corner uvs and normals", "[mesh_i
 
     // Some faces without normals: normals dropped, with a warning.
     std::vector<std::string> warnings;
-    const Mesh m3 = read_mesh(
-        tmp.write("mixed.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\n"
-                               "f 1//1 2//1 3//1\nf 2 4 3\n"),
-        &warnings);
+    const Mesh m3 = read_mesh(tmp.write("mixed.obj",
+                                        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\n"
+                                        "f 1//1 2//1 3//1\nf 2 4 3\n"),
+                              &warnings);
     CHECK_FALSE(m3.has_normals());
     REQUIRE(warnings.size() == 1);
     CHECK(warnings[0].find("normals ignored") != std::string::npos);
@@ -302,7 +303,8 @@ TEST_CASE("mesh_io: OFF: comments, colours and NOFF normals", "[mesh_io]") {
     REQUIRE(n.corner_normals.size() == 3);
     CHECK(n.corner_normals[2] == Vec3(0.6, 0, 0.8));
 
-    const Mesh one_line = read_mesh(tmp.write("b.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+    const Mesh one_line =
+        read_mesh(tmp.write("b.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
     CHECK(one_line.triangles.size() == 1);
 }
 
@@ -431,9 +433,9 @@ TEST_CASE("mesh_io: write then read gives the same mesh", "[mesh_io]") {
     }
     // OBJ keeps everything exactly (%.17g round-trips doubles).
     require_same(m, read_mesh([&] {
-        write_mesh(tmp.path("m.obj"), m);
-        return tmp.path("m.obj");
-    }()));
+                     write_mesh(tmp.path("m.obj"), m);
+                     return tmp.path("m.obj");
+                 }()));
 
     Mesh plain = m;
     plain.corner_normals.clear();
@@ -555,16 +557,15 @@ TEST_CASE("mesh_io: truncated files", "[mesh_io]") {
     std::vector<Vec3> normals(ico.positions);
     for (const char* format : {"ascii", "binary_little_endian"}) {
         std::string full = ply(ico, normals, format);
-        require_error(tmp.write(std::string("cut_") + format + ".ply",
-                                full.substr(0, full.size() - 10)),
-                      "truncated");
+        require_error(
+            tmp.write(std::string("cut_") + format + ".ply", full.substr(0, full.size() - 10)),
+            "truncated");
         const std::size_t header = full.find("end_header\n") + 11;
-        require_error(tmp.write(std::string("header_") + format + ".ply",
-                                full.substr(0, header)),
+        require_error(tmp.write(std::string("header_") + format + ".ply", full.substr(0, header)),
                       "truncated");
-        require_error(tmp.write(std::string("noend_") + format + ".ply",
-                                full.substr(0, header - 8)),
-                      "end_header");
+        require_error(
+            tmp.write(std::string("noend_") + format + ".ply", full.substr(0, header - 8)),
+            "end_header");
     }
     const std::string bin = binary_stl(ico);
     require_error(tmp.write("cut_bin.stl", bin.substr(0, bin.size() - 7)), "truncated");
@@ -578,8 +579,7 @@ TEST_CASE("mesh_io: out-of-range and invalid indices", "[mesh_io]") {
     TempDir tmp;
     require_error(tmp.write("r.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"), "out of range");
     require_error(tmp.write("r0.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), "index 0");
-    require_error(tmp.write("rneg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n"),
-                  "out of range");
+    require_error(tmp.write("rneg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n"), "out of range");
     require_error(tmp.write("rvt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n"),
                   "out of range");
     require_error(tmp.write("rvn.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n"),
@@ -587,8 +587,7 @@ TEST_CASE("mesh_io: out-of-range and invalid indices", "[mesh_io]") {
     require_error(tmp.write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n"), "bad face corner");
     require_error(tmp.write("big.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n"),
                   "bad face corner");
-    require_error(tmp.write("r.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
-                  "out of range");
+    require_error(tmp.write("r.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), "out of range");
     require_error(tmp.write("rn.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n"),
                   "out of range");
     std::string s =
@@ -605,12 +604,12 @@ TEST_CASE("mesh_io: NaN and Inf coordinates are rejected", "[mesh_io]") {
     TempDir tmp;
     require_error(tmp.write("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"), "non-finite");
     require_error(tmp.write("inf.obj", "v 0 0 0\nv 1 0 0\nv 0 -inf 0\nf 1 2 3\n"), "non-finite");
-    require_error(tmp.write("huge.obj", "v 0 0 0\nv 1e999 0 0\nv 0 1 0\nf 1 2 3\n"),
-                  "non-finite");
+    require_error(tmp.write("huge.obj", "v 0 0 0\nv 1e999 0 0\nv 0 1 0\nf 1 2 3\n"), "non-finite");
     require_error(tmp.write("nan.off", "OFF\n3 1 0\n0 0 0\n1 NaN 0\n0 1 0\n3 0 1 2\n"),
                   "non-finite");
-    require_error(tmp.write("nan_n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 nan\nf 1//1 2//1 3//1\n"),
-                  "non-finite");
+    require_error(
+        tmp.write("nan_n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 nan\nf 1//1 2//1 3//1\n"),
+        "non-finite");
     const Mesh ico = testmesh::icosahedron();
     std::vector<Vec3> normals(ico.positions);
     Mesh bad = ico;
@@ -622,7 +621,8 @@ TEST_CASE("mesh_io: NaN and Inf coordinates are rejected", "[mesh_io]") {
     require_error(tmp.write("inf_a.stl", ascii_stl(bad)), "non-finite");
 }
 
-TEST_CASE("mesh_io: absurd header counts are refused by comparing with the file size", "[mesh_io]") {
+TEST_CASE("mesh_io: absurd header counts are refused by comparing with the file size",
+          "[mesh_io]") {
     // By design no reader reserves from a claimed count before checking that
     // the bytes after the header can hold it; these files are a few bytes long
     // and claim billions of elements, so the messages name the byte count.
@@ -774,8 +774,8 @@ TEST_CASE("mesh_io: analyze_mesh counts what the schemes will see", "[mesh_io][r
     CHECK(ico.max_valence == 5);
     REQUIRE(ico.valence_histogram.size() == 6);
     CHECK(ico.valence_histogram[5] == 12);
-    CHECK(ico.boundary_edges + ico.nonmanifold_edges + ico.degenerate_faces +
-              ico.duplicate_faces + ico.unreferenced_vertices + ico.singular_vertices ==
+    CHECK(ico.boundary_edges + ico.nonmanifold_edges + ico.degenerate_faces + ico.duplicate_faces +
+              ico.unreferenced_vertices + ico.singular_vertices ==
           0);
 
     // Open grid: boundary edges = perimeter.

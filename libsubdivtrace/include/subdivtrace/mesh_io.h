@@ -16,7 +16,7 @@ namespace subdivtrace {
 /// normals. Throws MeshError "<path>: <reason>" for every bad input (missing,
 /// empty or truncated file, a header whose counts the file size cannot hold,
 /// out-of-range indices, NaN/Inf values, no faces); never allocates more than a
-/// small multiple of the file size. Recoverable oddities (polygons, dropped
+/// fixed multiple of the file size. Recoverable oddities (polygons, dropped
 /// triangles that repeat a vertex, ignored statements) are appended to
 /// `warnings`, each prefixed with the path.
 Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
