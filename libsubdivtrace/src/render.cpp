@@ -58,15 +58,7 @@ Vec3 shade(const IntersectFn& intersect, const Ray& ray, const Hit& hit, const V
     const Vec3 l = to_light / light_distance;
     double direct = std::max(0.0, glm::dot(n, l));
     if (direct > 0.0 && shadows && glm::dot(g, l) > 0.0) {
-        // Leave the surface by its error bound (pbrt's spawn-ray offset), and
-        // carry the path length so the shadow ray sees the camera's resolution.
-        Ray s;
-        s.origin = hit.point + g * (hit.error_bound + 1e-12 * glm::length(hit.point));
-        s.direction = l;
-        s.t_min = 0.0;
-        s.t_max = light_distance;
-        s.origin_distance = hit.t * glm::length(ray.direction) +
-                            std::max(0.0, ray.origin_distance);
+        const Ray s = spawn_shadow_ray(ray, hit, light);
         Hit blocker;
         ++local.shadow_rays;
         ++local.rays;
@@ -78,6 +70,18 @@ Vec3 shade(const IntersectFn& intersect, const Ray& ray, const Hit& hit, const V
 }
 
 }  // namespace
+
+Ray spawn_shadow_ray(const Ray& ray, const Hit& hit, const Vec3& light) {
+    Vec3 g = hit.geometric_normal;
+    if (glm::dot(g, light - hit.point) < 0.0) g = -g;
+    Ray s;
+    s.origin = hit.point + g * (hit.error_bound + 1e-12 * glm::length(hit.point));
+    s.direction = glm::normalize(light - s.origin);
+    s.t_min = 0.0;
+    s.t_max = glm::length(light - s.origin);
+    s.origin_distance = hit.t * glm::length(ray.direction) + std::max(0.0, ray.origin_distance);
+    return s;
+}
 
 double Camera::pixel_angle() const {
     return 2.0 * std::tan(0.5 * fov_degrees * k_pi / 180.0) / std::max(width, 1);

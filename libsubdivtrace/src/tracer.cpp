@@ -41,14 +41,6 @@ struct DrawnCorner {
     bool alive;
 };
 
-/// Lexicographic order of positions: both triangles on an edge see the same
-/// bits, so both pick the same endpoint to snap to.
-bool lex_less(const Vec3& a, const Vec3& b) {
-    if (a.x != b.x) return a.x < b.x;
-    if (a.y != b.y) return a.y < b.y;
-    return a.z < b.z;
-}
-
 Vec2 grid_domain(const NodeId& id, int corner) {
     const auto g = node_corner_grid(id)[corner];
     const double inv_n = 1.0 / static_cast<double>(std::uint64_t{1} << id.level);
@@ -114,6 +106,8 @@ public:
 
     void trace(const Ray& ray, bool all, Hit* nearest, bool* found, std::vector<Hit>* hits,
                TraceCounters* counters) const;
+    void collect_drawn(const Vec3& origin, double origin_distance,
+                       std::vector<std::array<Vec3, 3>>& out) const;
 
     Mesh mesh;
     SurfaceOptions options;
@@ -146,6 +140,8 @@ struct Traversal {
     bool found = false;
     std::vector<Hit>* all_hits = nullptr;
     TraceCounters counters;
+    /// Diagnostics mode: no culling, leaves collected instead of intersected.
+    std::vector<std::array<Vec3, 3>>* drawn_out = nullptr;
 
     /// DESIGN section 5: an edge refines while it is longer than the ray's
     /// footprint where the ray would meet it, width(d) = angle * (D + d) * tol.
@@ -164,6 +160,10 @@ struct Traversal {
     }
 
     bool shell_entry(const Shell& shell, const DrawnCorner* drawn, double& t_entry) const {
+        if (drawn_out) {
+            t_entry = 0.0;
+            return true;
+        }
         RayBoxQuery q = query;
         q.t_max = t_max;
         if (drawn[0].alive && drawn[1].alive && drawn[2].alive)
@@ -175,8 +175,13 @@ struct Traversal {
         return ray_hits_shell(q, grown, ShellKind::aabb_slab, t_entry);
     }
 
-    void leaf(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn) {
+    void leaf(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn,
+              double parent_thickness) {
         ++counters.leaves_tested;
+        if (drawn_out) {
+            drawn_out->push_back({drawn[0].position, drawn[1].position, drawn[2].position});
+            return;
+        }
         detail::TriangleHit th;
         if (!detail::intersect_watertight(wray, drawn[0].position, drawn[1].position,
                                           drawn[2].position, t_min, t_max, th))
@@ -198,11 +203,17 @@ struct Traversal {
         }
         h.level = id.level;
         h.base_face = id.face;
-        // Rounding of the hit point, plus how far a neighbouring ray's surface
-        // may lie from this leaf (a quarter of the leaf's shell thickness).
+        // Rounding of the hit point, plus how far the surface another ray sees
+        // here may lie from this leaf. A finer one stays in the leaf's shell,
+        // snapping moves it to the drawn corners, and a ray that stops one
+        // level coarser (a secondary ray from this point judges edges by their
+        // distance from the point, not from the camera) sees the parent,
+        // inside the parent's shell: the larger thickness bounds them all.
+        Shell grown = rec.shell;
+        for (int c = 0; c < 3; ++c) grown.grow_both(drawn[c].position);
         const Vec3 ap = glm::abs(h.point);
         h.error_bound = detail_gamma_point() * (ap.x + ap.y + ap.z) +
-                        0.25 * std::max(0.0, rec.shell.thickness());
+                        std::max({0.0, grown.thickness(), parent_thickness});
         if (collect_all) {
             all_hits->push_back(h);
         } else {
@@ -228,9 +239,10 @@ struct Traversal {
     }
 
     void visit(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn,
-               const bool* edge_exists) {
+               const bool* edge_exists, double parent_thickness) {
         ++counters.nodes_visited;
         counters.deepest_level = std::max(counters.deepest_level, int{id.level});
+        const bool naive = s.options.crack_rule == CrackRule::per_triangle;
         bool refine[3];
         bool any = false;
         for (int e = 0; e < 3; ++e) {
@@ -238,12 +250,27 @@ struct Traversal {
                         edge_refines(rec.position[e], rec.position[(e + 1) % 3]);
             any = any || refine[e];
         }
+        // The paper's rule: the triangle alone decides and every child vertex
+        // is its own (T-junctions wherever neighbours disagree).
+        if (naive) refine[0] = refine[1] = refine[2] = any;
         if (!any) {
-            leaf(id, rec, drawn);
+            leaf(id, rec, drawn, parent_thickness);
             return;
         }
 
-        // A triangle refines if any of its edges does (section 6).
+        // A triangle refines if any of its edges does (section 6). The
+        // midpoint of a frozen edge snaps to one of its endpoints; either way
+        // this side draws the whole segment, so each side may choose: towards
+        // the corner where another frozen edge meets it, which tiles the
+        // triangle as a fan from that corner instead of leaving a sliver
+        // between the chord and a refined neighbour edge.
+        int snap_to[3];
+        for (int e = 0; e < 3; ++e) {
+            const int a = e, b = (e + 1) % 3;
+            const bool frozen_at_a = !refine[(e + 2) % 3];
+            const bool frozen_at_b = !refine[(e + 1) % 3];
+            snap_to[e] = frozen_at_a || !frozen_at_b ? a : b;
+        }
         struct Child {
             NodeId id;
             NodeRecord rec;
@@ -260,24 +287,22 @@ struct Traversal {
             const auto& map = child_corners(id.down, c);
             for (int k = 0; k < 3; ++k) {
                 const ChildCorner cc = map[k];
-                const bool own = cc.is_edge ? refine[cc.index] : drawn[cc.index].alive;
+                const bool own =
+                    naive || (cc.is_edge ? refine[cc.index] : drawn[cc.index].alive);
                 if (own) {
                     ch.drawn[k] = {ch.rec.draw_position[k], ch.rec.normal[k], grid_domain(ch.id, k), true};
                 } else if (!cc.is_edge) {
                     ch.drawn[k] = drawn[cc.index];
                 } else {
-                    // Frozen edge: its midpoint snaps to the lexicographically
-                    // smaller endpoint (same choice on both sides of the edge).
-                    const int a = cc.index, b = (cc.index + 1) % 3;
-                    const int to = lex_less(rec.position[b], rec.position[a]) ? b : a;
-                    ch.drawn[k] = drawn[to];
+                    ch.drawn[k] = drawn[snap_to[cc.index]];
                     ch.drawn[k].alive = false;
                 }
             }
             for (int k = 0; k < 3; ++k) {
                 const ChildCorner p = map[k], q = map[(k + 1) % 3];
                 // Halves of a parent edge exist only if that edge refined.
-                if (!p.is_edge) ch.exists[k] = refine[q.index];
+                if (naive) ch.exists[k] = true;
+                else if (!p.is_edge) ch.exists[k] = refine[q.index];
                 else if (!q.is_edge) ch.exists[k] = refine[p.index];
                 else ch.exists[k] = true;
             }
@@ -292,8 +317,8 @@ struct Traversal {
         for (int k = 0; k < 4; ++k) {
             Child& ch = children[order[k]];
             if (!ch.hit) break;
-            if (!collect_all && ch.t_entry > t_max) break;
-            visit(ch.id, ch.rec, ch.drawn, ch.exists);
+            if (!collect_all && !drawn_out && ch.t_entry > t_max) break;
+            visit(ch.id, ch.rec, ch.drawn, ch.exists, rec.shell.thickness());
         }
     }
 };
@@ -333,7 +358,7 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
         double t_entry;
         if (!tr.shell_entry(rec.shell, drawn, t_entry)) return;
         const bool exists[3] = {true, true, true};
-        tr.visit(id, rec, drawn, exists);
+        tr.visit(id, rec, drawn, exists, 0.0);
     });
     if (found) *found = tr.found;
     if (nearest && tr.found) *nearest = tr.best;
@@ -354,6 +379,33 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
     if (counters) counters->add(tr.counters);
     std::lock_guard<std::mutex> lock(totals_mutex);
     totals.add(tr.counters);
+}
+
+void SurfaceImpl::collect_drawn(const Vec3& origin, double origin_distance,
+                                std::vector<std::array<Vec3, 3>>& out) const {
+    Traversal tr{*this,
+                 origin,
+                 Vec3(0.0, 0.0, 1.0),
+                 1.0,
+                 origin_distance,
+                 0.0,
+                 1e300,
+                 true,
+                 make_ray_box_query(origin, Vec3(0.0, 0.0, 1.0), 0.0, 1e300),
+                 detail::make_watertight_ray(origin, Vec3(0.0, 0.0, 1.0)),
+                 Hit{},
+                 false,
+                 nullptr,
+                 TraceCounters{},
+                 &out};
+    for (std::uint32_t face = 0; face < roots.size(); ++face) {
+        const NodeId id = Hierarchy::root(face);
+        DrawnCorner drawn[3];
+        for (int c = 0; c < 3; ++c)
+            drawn[c] = {roots[face].draw_position[c], roots[face].normal[c], grid_domain(id, c), true};
+        const bool exists[3] = {true, true, true};
+        tr.visit(id, roots[face], drawn, exists, 0.0);
+    }
 }
 
 AdaptiveSurface::AdaptiveSurface(Mesh mesh, const SurfaceOptions& options) {
@@ -384,6 +436,12 @@ bool AdaptiveSurface::inside(const Vec3& point) const {
     std::vector<Hit> hits;
     intersect_all(ray, hits);
     return hits.size() % 2 == 1;
+}
+
+void AdaptiveSurface::drawn_triangles(const Vec3& origin, double origin_distance,
+                                      std::vector<std::array<Vec3, 3>>& out) const {
+    out.clear();
+    impl_->collect_drawn(origin, origin_distance, out);
 }
 
 Bounds3 AdaptiveSurface::bounds() const { return impl_->bounds; }

@@ -76,6 +76,12 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+/// The shadow ray from `hit` (found by `ray`) towards a point light: it leaves
+/// the surface by the hit's error bound on the light's side (pbrt's spawn-ray
+/// offset) and carries the camera path length, so the footprint rule gives it
+/// the camera's resolution near its origin (DESIGN section 5).
+Ray spawn_shadow_ray(const Ray& ray, const Hit& hit, const Vec3& light);
+
 /// Peak resident set size of this process (VmHWM), in bytes; 0 if unknown.
 std::size_t peak_rss_bytes();
 

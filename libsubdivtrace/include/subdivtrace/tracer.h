@@ -3,6 +3,7 @@
 /// The public face of the per-ray adaptive tracer: an AdaptiveSurface built
 /// once from a Mesh, then intersected by any number of threads at once.
 
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -29,6 +30,16 @@ struct View {
     double pixel_size = 0.0;  ///< world units per pixel, orthographic only
 };
 
+/// How neighbouring triangles that stop at different levels are kept closed.
+enum class CrackRule {
+    /// DESIGN section 6: each edge decides; midpoints of frozen edges snap to
+    /// an endpoint, so both sides draw the same segment. The default.
+    snap_frozen_edges,
+    /// The paper's literal rule (each triangle decides alone): leaves
+    /// T-junctions and cracks. Kept only to show that the fix matters.
+    per_triangle,
+};
+
 struct SurfaceOptions {
     SchemeKind scheme = SchemeKind::normal;
     /// Refine while an edge is longer than tolerance * the ray's footprint (pixels).
@@ -38,6 +49,7 @@ struct SurfaceOptions {
     /// Byte budget of the node cache, shared by all threads.
     std::size_t cache_mb = 512;
     View view;
+    CrackRule crack_rule = CrackRule::snap_frozen_edges;
 };
 
 /// A ray in the surface's object space. direction need not be unit length;
@@ -110,6 +122,11 @@ public:
     /// through the surface seen at the view's resolution). For open meshes the
     /// answer is the same parity rule, which is only meaningful near closed parts.
     bool inside(const Vec3& point) const;
+
+    /// Diagnostics: every leaf triangle a ray from `origin` would draw (no
+    /// shell culling), as drawn, including degenerate ones.
+    void drawn_triangles(const Vec3& origin, double origin_distance,
+                         std::vector<std::array<Vec3, 3>>& out) const;
 
     /// Conservative bounds of the surface at every level up to max_level.
     Bounds3 bounds() const;
