@@ -41,6 +41,7 @@
 #endif
 
 #include <cmath>
+#include <set>
 #include <stdexcept>
 
 // frame.h must always be the first POV file included (pulls in platform config)
@@ -83,8 +84,6 @@ void add_counters(TraceThreadData *Thread, const subdivtrace::TraceCounters& c)
 {
 	Thread->Stats()[SubdivMesh_Nodes_Visited] += c.nodes_visited;
 	Thread->Stats()[SubdivMesh_Leaves_Tested] += c.leaves_tested;
-	Thread->Stats()[SubdivMesh_Cache_Hits] += c.cache_hits;
-	Thread->Stats()[SubdivMesh_Cache_Misses] += c.cache_misses;
 	int level = c.deepest_level;
 	if (level < 0)
 		level = 0;
@@ -199,6 +198,58 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 bool SubdivisionMesh::Is_Closed() const
 {
 	return surface && surface->is_closed();
+}
+
+
+
+/*****************************************************************************
+*
+* FUNCTION
+*
+*   Collect_Totals
+*
+* DESCRIPTION
+*
+*   Sums the node cache statistics of every distinct surface in the scene
+*   (copies share one), searching CSG children, clipped_by and bounded_by.
+*
+******************************************************************************/
+
+namespace
+{
+
+void collect_totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Totals,
+                    std::set<const subdivtrace::AdaptiveSurface *>& seen)
+{
+	for (vector<ObjectPtr>::const_iterator i = Objects.begin(); i != Objects.end(); i++)
+	{
+		ObjectPtr Object = *i;
+		if (Object == NULL)
+			continue;
+		SubdivisionMesh *Subdiv = dynamic_cast<SubdivisionMesh *>(Object);
+		if (Subdiv != NULL && Subdiv->Surface() != NULL && seen.insert(Subdiv->Surface()).second)
+		{
+			subdivtrace::SurfaceStats s = Subdiv->Surface()->stats();
+			Totals.Surfaces++;
+			Totals.NodesBuilt += s.nodes_built;
+			Totals.CacheHits += s.trace.cache_hits;
+			Totals.CacheMisses += s.trace.cache_misses;
+			Totals.CacheEvictions += s.cache_evictions;
+			Totals.CachePeakBytes += s.cache_peak_bytes;
+		}
+		if (CompoundObject *Compound = dynamic_cast<CompoundObject *>(Object))
+			collect_totals(Compound->children, Totals, seen);
+		collect_totals(Object->Clip, Totals, seen);
+		collect_totals(Object->Bound, Totals, seen);
+	}
+}
+
+}
+
+void SubdivisionMesh::Collect_Totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Totals)
+{
+	std::set<const subdivtrace::AdaptiveSurface *> seen;
+	collect_totals(Objects, Totals, seen);
 }
 
 

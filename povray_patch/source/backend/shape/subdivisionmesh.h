@@ -44,6 +44,20 @@ namespace pov
 
 class Camera;
 
+/// Node cache statistics summed over the distinct surfaces of a scene.
+struct SubdivisionMeshTotals
+{
+	int Surfaces;
+	POV_ULONG NodesBuilt;
+	POV_ULONG CacheHits;
+	POV_ULONG CacheMisses;
+	POV_ULONG CacheEvictions;
+	POV_ULONG CachePeakBytes;
+
+	SubdivisionMeshTotals() :
+		Surfaces(0), NodesBuilt(0), CacheHits(0), CacheMisses(0), CacheEvictions(0), CachePeakBytes(0) { }
+};
+
 /// Everything the parser reads from a subdivision_mesh block, in plain types.
 struct SubdivisionMeshInput
 {
@@ -100,6 +114,13 @@ class SubdivisionMesh : public ObjectBase
 
 		/// Deepest max_level the library accepts.
 		static int Max_Level_Cap();
+
+		/// The library's surface (NULL before Build succeeded).
+		const subdivtrace::AdaptiveSurface *Surface() const { return surface.get(); }
+
+		/// Sums the statistics of every distinct surface among Objects and
+		/// their CSG children, clipping and bounding objects.
+		static void Collect_Totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Totals);
 
 	private:
 		/// Shared by all copies of the object: the node cache is per surface.
