@@ -303,9 +303,9 @@ def test_features(ctx):
              "  pigment { rgb <0.3, 0.9, 0.4> } rotate y*25 translate <1.4, 0, 0.8> }\n"
              % (body, ico_texture("specular 0.4 reflection 0.3")))
     rc, err, image, _ = ctx.render("features", scene)
-    if "Subdivision Mesh" not in err or "Subdivision mesh deepest level" not in err:
+    if "Subdivision Mesh" not in err or "deepest level reached" not in err:
         raise Failure("render summary lacks the subdivision_mesh statistics:\n%s" % tail(err, 40))
-    m = re.search(r"Subdivision mesh deepest level:\s+(-?\d+)", err)
+    m = re.search(r"deepest level reached:\s+(-?\d+)", err)
     if not m or int(m.group(1)) < 1:
         raise Failure("expected adaptive refinement below level 0, summary says %s" % (m and m.group(1)))
     _, _, empty, _ = ctx.render("features_empty", SCENE_HEADER)
@@ -418,7 +418,7 @@ def uniform_level_images(ctx, scheme, level):
                              % (scheme, level, mat, xform))
     _, _, a, _ = ctx.render("native_%s_l%d" % (scheme, level), native)
     _, err, b, _ = ctx.render("subdiv_%s_l%d" % (scheme, level), subdiv)
-    m = re.search(r"Subdivision mesh deepest level:\s+(-?\d+)", err)
+    m = re.search(r"deepest level reached:\s+(-?\d+)", err)
     if m and int(m.group(1)) != level:
         raise Failure("deepest level reached is %s, expected %d" % (m.group(1), level))
     return a, b
