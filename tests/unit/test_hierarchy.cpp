@@ -85,7 +85,7 @@ TEST_CASE("adaptive hierarchy equals uniform subdivision", "[hierarchy]") {
     }
 }
 
-TEST_CASE("hierarchy nodes do not depend on cache budget or threads", "[hierarchy]") {
+TEST_CASE("hierarchy nodes do not depend on cache budget or threads", "[hierarchy][threads]") {
     const Mesh mesh = testmesh::irregular_closed(3);
     for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
         INFO(scheme_name(scheme));

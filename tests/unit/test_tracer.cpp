@@ -234,7 +234,7 @@ TEST_CASE("shadow rays from a lit smooth mesh see no acne", "[tracer]") {
     }
 }
 
-TEST_CASE("pixels do not depend on cache budget or thread count", "[tracer]") {
+TEST_CASE("pixels do not depend on cache budget or thread count", "[tracer][threads]") {
     const Mesh mesh = testmesh::torus(8, 6, 1.0, 0.35);
     Camera cam;
     cam.look_from = Vec3(0.5, 1.5, 2.2);
