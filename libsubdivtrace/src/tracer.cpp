@@ -88,7 +88,7 @@ public:
     SurfaceImpl(Mesh m, const SurfaceOptions& o)
         : mesh(std::move(m)),
           options(o),
-          hierarchy(mesh, o.scheme, o.max_level, o.cache_mb << 20) {
+          hierarchy(mesh, o.scheme, o.max_level, o.cache_mb << 20, o.shell_kind) {
         roots.reserve(mesh.triangles.size());
         std::vector<Vec3> lo, hi;
         for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
@@ -167,12 +167,12 @@ struct Traversal {
         RayBoxQuery q = query;
         q.t_max = t_max;
         if (drawn[0].alive && drawn[1].alive && drawn[2].alive)
-            return ray_hits_shell(q, shell, ShellKind::aabb_slab, t_entry);
+            return ray_hits_shell(q, shell, s.options.shell_kind, t_entry);
         // Snapped corners can lie outside the node's own shell: grow by them.
         Shell grown = shell;
         for (int c = 0; c < 3; ++c)
             if (!drawn[c].alive) grown.grow_both(drawn[c].position);
-        return ray_hits_shell(q, grown, ShellKind::aabb_slab, t_entry);
+        return ray_hits_shell(q, grown, s.options.shell_kind, t_entry);
     }
 
     void leaf(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn,

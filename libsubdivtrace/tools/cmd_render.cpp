@@ -33,6 +33,7 @@ const char* k_render_help =
     "  --uniform K                render the uniform level-K mesh instead (baseline)\n"
     "  --threads N                render threads (all cores)\n"
     "  --cache-mb M               node cache budget in MB (512)\n"
+    "  --shell K                  bounding shells: slab (box and normal slab) | aabb (slab)\n"
     "  --light X,Y,Z              point light (default: above right of the camera)\n"
     "  --no-shadows               no shadow rays\n"
     "  --stats-json FILE          write timings and work counters as JSON\n"
@@ -52,6 +53,7 @@ struct RenderArgs {
     int uniform = -1;
     int threads = 0;
     std::size_t cache_mb = 512;
+    ShellKind shell = ShellKind::aabb_slab;
     bool has_light = false;
     Vec3 light{0.0};
     bool shadows = true;
@@ -119,7 +121,12 @@ RenderArgs parse_render_args(const Args& args, bool needs_output) {
         else if (a == "--uniform") r.uniform = parse_int(a, value(), 0, k_max_uniform_levels);
         else if (a == "--threads") r.threads = parse_int(a, value(), 1, 1024);
         else if (a == "--cache-mb") r.cache_mb = static_cast<std::size_t>(parse_int(a, value(), 1, 1 << 20));
-        else if (a == "--light") r.light = parse_vec3(a, value()), r.has_light = true;
+        else if (a == "--shell") {
+            const std::string& k = value();
+            if (k == "slab") r.shell = ShellKind::aabb_slab;
+            else if (k == "aabb") r.shell = ShellKind::aabb;
+            else throw UsageError{"--shell must be slab or aabb"};
+        } else if (a == "--light") r.light = parse_vec3(a, value()), r.has_light = true;
         else if (a == "--no-shadows") r.shadows = false;
         else if (a == "--stats-json") r.stats_json = value();
         else if (a == "--quiet") r.quiet = true;
@@ -225,6 +232,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
         so.tolerance = a.tolerance;
         so.max_level = a.max_level;
         so.cache_mb = a.cache_mb;
+        so.shell_kind = a.shell;
         so.view.camera = cam.look_from;
         so.view.pixel_angle = cam.pixel_angle();
         const AdaptiveSurface surface(std::move(mesh), so);

@@ -12,6 +12,7 @@
 
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
+#include "subdivtrace/shell.h"
 
 namespace subdivtrace {
 
@@ -50,6 +51,8 @@ struct SurfaceOptions {
     std::size_t cache_mb = 512;
     View view;
     CrackRule crack_rule = CrackRule::snap_frozen_edges;
+    /// Bounding volume the rays are culled against (docs/tracer.md measures both).
+    ShellKind shell_kind = ShellKind::aabb_slab;
 };
 
 /// A ray in the surface's object space. direction need not be unit length;
