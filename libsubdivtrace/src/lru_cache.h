@@ -28,8 +28,10 @@ struct CacheCounters {
 template <class Key, class Value, class Hash>
 class ShardedLruCache {
 public:
-    /// Rough cost of one entry: key, value, list node and hash bucket.
-    static constexpr std::size_t k_entry_bytes = sizeof(Key) + sizeof(Value) + 64;
+    /// Cost of one entry as allocated: the key twice (list and map), the
+    /// value, two list pointers, the map node's next pointer, cached hash and
+    /// iterator, a bucket slot, and malloc's header on both nodes.
+    static constexpr std::size_t k_entry_bytes = 2 * sizeof(Key) + sizeof(Value) + 80;
 
     explicit ShardedLruCache(std::size_t budget_bytes, std::size_t shard_count = 64)
         : shards_(shard_count) {
