@@ -68,7 +68,7 @@ if [ ! -f "$stamp_dir/fetch" ]; then
         exit 1
     fi
     suite=$(. /etc/os-release && echo "${VERSION_CODENAME:-bookworm}")
-    mkdir -p "$apt_dir/parts" "$apt_dir/lists/partial" "$dl_dir"
+    mkdir -p "$apt_dir/parts" "$apt_dir/lists/partial" "$apt_dir/cache/archives/partial" "$dl_dir"
     cat > "$apt_dir/parts/src.sources" <<EOF
 Types: deb-src
 URIs: $mirror
@@ -76,8 +76,13 @@ Suites: $suite
 Components: main
 Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
 EOF
+    # Lists and caches stay private too: the system's apt state is not touched.
     apt_opts=(-o "Dir::Etc::SourceList=/dev/null" -o "Dir::Etc::SourceParts=$apt_dir/parts"
-              -o "Dir::State::Lists=$apt_dir/lists")
+              -o "Dir::State::Lists=$apt_dir/lists" -o "Dir::Cache=$apt_dir/cache")
+    if [ "$(id -u)" -eq 0 ]; then
+        # root downloads into a directory the _apt sandbox user may not write
+        apt_opts+=(-o "APT::Sandbox::User=root")
+    fi
     say "  mirror $mirror ($suite)"
     apt-get "${apt_opts[@]}" -qq update
     (cd "$dl_dir" && apt-get "${apt_opts[@]}" -qq source --download-only povray)
