@@ -23,8 +23,6 @@ using detail::VertexKey;
 constexpr double k_displacement_factor = 2.0;
 /// Relative slack for rounding in the stencils, times the node's extent.
 constexpr double k_rounding_slack = 1e-9;
-/// Entries a thread keeps in its private vertex table (about 64 bytes each).
-constexpr std::size_t k_thread_scratch_entries = std::size_t{1} << 16;
 std::atomic<std::uint64_t> g_next_hierarchy_id{1};
 
 struct NodeKeyHash {
@@ -113,7 +111,7 @@ NodeRecord HierarchyImpl::build(const NodeId& id) {
         detail::EvalScratch table;
     };
     thread_local ThreadScratch mine;
-    if (mine.owner != id_ || mine.table.size() > k_thread_scratch_entries) {
+    if (mine.owner != id_) {
         mine.table.clear();
         mine.owner = id_;
     }
@@ -199,7 +197,7 @@ NodeRecord Hierarchy::node(const NodeId& id) const {
 
 Vec3 Hierarchy::grid_position(std::uint32_t face, int level, std::uint32_t i,
                               std::uint32_t j) const {
-    detail::EvalScratch scratch;
+    detail::EvalScratch scratch(10);
     return impl_->vertices.position(impl_->topo.canonical(face, level, i, j), level, scratch);
 }
 

@@ -33,14 +33,13 @@ VertexEvaluator::VertexEvaluator(const BaseTopology& topo, SchemeKind scheme,
     : topo_(topo), scheme_(scheme), cache_(budget_bytes) {}
 
 Vec3 VertexEvaluator::lookup(const EvalKey& key, EvalScratch& scratch) {
-    auto it = scratch.find(key);
-    if (it != scratch.end()) return it->second;
     Vec3 value;
+    if (scratch.find(key, value)) return value;
     if (!cache_.lookup(key, value)) {
         value = compute(key, scratch);
         cache_.insert(key, value);
     }
-    scratch.emplace(key, value);
+    scratch.insert(key, value);
     return value;
 }
 

@@ -30,8 +30,60 @@ struct EvalKeyHash {
     }
 };
 
-/// Memo of one top-level request (building one node).
-using EvalScratch = std::unordered_map<EvalKey, Vec3, EvalKeyHash>;
+/// A thread's private memo in front of the shared cache: open addressing
+/// with linear probing in one flat array (node-based maps spent most of the
+/// build time in cache misses). When half full it forgets everything, which
+/// only costs recomputation: values are deterministic.
+class EvalScratch {
+public:
+    explicit EvalScratch(unsigned log2_slots = 17) : slots_(std::size_t{1} << log2_slots) {}
+
+    bool find(const EvalKey& key, Vec3& value) const {
+        for (std::size_t i = slot_of(key);; i = (i + 1) & mask()) {
+            const Slot& s = slots_[i];
+            if (s.generation != generation_) return false;
+            if (s.key == key) {
+                value = s.value;
+                return true;
+            }
+        }
+    }
+
+    void insert(const EvalKey& key, const Vec3& value) {
+        if (2 * count_ >= slots_.size()) clear();
+        for (std::size_t i = slot_of(key);; i = (i + 1) & mask()) {
+            Slot& s = slots_[i];
+            if (s.generation != generation_) {
+                s = {key, value, generation_};
+                ++count_;
+                return;
+            }
+            if (s.key == key) return;
+        }
+    }
+
+    /// Forgets every entry in O(1): slots of older generations count as empty.
+    void clear() {
+        count_ = 0;
+        if (++generation_ == 0) {
+            for (Slot& s : slots_) s.generation = 0;
+            generation_ = 1;
+        }
+    }
+
+private:
+    struct Slot {
+        EvalKey key;
+        Vec3 value;
+        std::uint32_t generation = 0;
+    };
+    std::size_t mask() const { return slots_.size() - 1; }
+    std::size_t slot_of(const EvalKey& key) const { return EvalKeyHash{}(key) & mask(); }
+
+    std::vector<Slot> slots_;
+    std::uint32_t generation_ = 1;
+    std::size_t count_ = 0;
+};
 
 /// A vertex's incident triangles at a level, as directed pairs (its ring).
 using KeyPairs = std::vector<FanPair<VertexKey>>;
