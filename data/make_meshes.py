@@ -2,12 +2,22 @@
 """Generates the demo meshes in data/ (pure Python, deterministic).
 
   icosahedron.obj    unit icosahedron (circumradius 1): 12 vertices, 20 faces
-  bunny_lowpoly.obj  a closed, bunny-like organic mesh of ~3k triangles with
-                     irregular valences 3..12: the spherical Delaunay
-                     triangulation (convex hull) of jittered points, edge flips,
-                     then a radial deformation into body, head, ears and tail
+  bunny_lowpoly.obj  a closed, bunny-like organic mesh of 2996 triangles with
+                     irregular valences 3..12 (see organic_mesh)
+  blob5k.obj         a closed, knobbly organic blob of 4996 triangles, same
+                     generator: the benchmark mesh of compare/
   quad_blob.obj      a closed all-quad blob (a deformed cube-sphere) for the
                      polygon-triangulation path of the readers
+
+organic_mesh: the spherical Delaunay triangulation (convex hull) of jittered
+points, random edge flips (valences 3..12, both extremes forced), then the
+vertices are relaxed on a smooth star-shaped surface r = radius(direction):
+each moves towards its neighbours' centroid and is projected radially back
+(Laplacian smoothing that evens out edge lengths in 3D, so ears and horns get
+their share of vertices), and edges whose triangles meet sharply are flipped.
+No triangle folds (each faces away from the centre, so the surface stays a
+radial graph: embedded) and neighbouring normals differ by under 60 degrees
+(printed), so the limit surface shows no scratches or creases.
 
 The Stanford bunny cannot be downloaded here; this is a stand-in with the same
 role (organic, irregular, closed). Every mesh is closed, manifold, and oriented
@@ -168,7 +178,10 @@ def try_flip(points, faces, edge_face, nbrs, a, b, min_val, max_val):
     return True
 
 
-def bunny_lowpoly(n_points=1500, seed=7):
+def irregular_sphere(n_points, seed):
+    """Points on the unit sphere and an irregular triangulation of them:
+    the convex hull of jittered Fibonacci points, random edge flips, and
+    vertices of valence 3 and 12 forced to occur."""
     rng = random.Random(seed)
     # Jittered Fibonacci points on the unit sphere: well spread, irregular.
     golden = math.pi * (3.0 - math.sqrt(5.0))
@@ -234,28 +247,234 @@ def bunny_lowpoly(n_points=1500, seed=7):
         shrink(v, 3)
 
     tris = list(faces.values())
+    return points, tris
 
-    # Radial deformation into a bunny-like blob (star-shaped, so the embedding
-    # stays valid): ellipsoid body, head, two long ears, tail, gentle noise.
-    bumps = [
-        (normalize((0.85, 0.45, 0.0)), 0.45, 0.30),   # head
-        (normalize((0.55, 0.95, 0.45)), 0.95, 0.10),  # ear
-        (normalize((0.50, 0.95, -0.45)), 0.90, 0.10),  # ear
-        (normalize((-1.0, 0.15, 0.0)), 0.22, 0.15),   # tail
-        (normalize((0.3, -1.0, 0.45)), 0.12, 0.2),    # feet
-        (normalize((0.3, -1.0, -0.45)), 0.12, 0.2),
-        (normalize((-0.4, -1.0, 0.4)), 0.15, 0.25),
-        (normalize((-0.4, -1.0, -0.4)), 0.15, 0.25),
-    ]
-    vertices = []
-    for d in points:
-        body = 1.0 / math.sqrt((d[0] / 1.0) ** 2 + (d[1] / 0.75) ** 2 + (d[2] / 0.7) ** 2)
-        r = body
-        for c, amp, width in bumps:
-            r += amp * math.exp(-(1.0 - dot(d, c)) / width ** 2 * 0.5)
-        r *= 1.0 + 0.03 * math.sin(7 * d[0]) * math.cos(5 * d[1]) * math.sin(6 * d[2] + 1)
-        vertices.append((r * d[0], r * d[1], r * d[2]))
-    return vertices, tris
+
+def bunny_radius(d):
+    """Radius of the bunny-like star-shaped surface in unit direction d:
+    ellipsoid body, head, two ears, tail, feet, gentle low-frequency noise."""
+    r = 1.0 / math.sqrt((d[0] / 1.0) ** 2 + (d[1] / 0.75) ** 2 + (d[2] / 0.7) ** 2)
+    for c, amp, width in BUNNY_BUMPS:
+        r += amp * math.exp(-(1.0 - dot(d, c)) / width ** 2 * 0.5)
+    return r * (1.0 + 0.03 * math.sin(7 * d[0]) * math.cos(5 * d[1]) * math.sin(6 * d[2] + 1))
+
+
+BUNNY_BUMPS = [
+    (normalize((0.85, 0.45, 0.0)), 0.45, 0.30),    # head
+    (normalize((0.55, 0.95, 0.40)), 0.85, 0.13),   # ear
+    (normalize((0.50, 0.95, -0.40)), 0.80, 0.13),  # ear
+    (normalize((-1.0, 0.15, 0.0)), 0.22, 0.18),    # tail
+    (normalize((0.3, -1.0, 0.45)), 0.12, 0.2),     # feet
+    (normalize((0.3, -1.0, -0.45)), 0.12, 0.2),
+    (normalize((-0.4, -1.0, 0.4)), 0.15, 0.25),
+    (normalize((-0.4, -1.0, -0.4)), 0.15, 0.25),
+]
+
+
+def blob_radius(d):
+    """A knobbly organic blob: an ellipsoid with lobes of several sizes, two
+    short horns and a dent, plus a low-frequency ripple."""
+    r = 1.0 / math.sqrt((d[0] / 1.1) ** 2 + (d[1] / 0.8) ** 2 + (d[2] / 0.85) ** 2)
+    for c, amp, width in BLOB_BUMPS:
+        r += amp * math.exp(-(1.0 - dot(d, c)) / width ** 2 * 0.5)
+    return r * (1.0 + 0.04 * math.sin(5 * d[0] + 0.5) * math.cos(4 * d[1]) * math.sin(4.5 * d[2] + 1))
+
+
+BLOB_BUMPS = [
+    (normalize((1.0, 0.3, 0.2)), 0.35, 0.35),     # big lobe
+    (normalize((-0.6, 0.7, 0.4)), 0.30, 0.28),    # lobe
+    (normalize((-0.5, -0.6, -0.7)), 0.28, 0.30),  # lobe
+    (normalize((0.2, 1.0, -0.5)), 0.55, 0.16),    # horn
+    (normalize((0.6, -0.8, 0.5)), 0.40, 0.15),    # horn
+    (normalize((-1.0, 0.0, -0.3)), 0.20, 0.22),   # knob
+    (normalize((0.1, 0.1, 1.0)), -0.18, 0.25),    # dent
+]
+
+
+def tri_outward(p0, p1, p2):
+    """True if triangle p0 p1 p2 faces away from the origin (its radial
+    projection onto the unit sphere is a positively oriented, non-degenerate
+    spherical triangle) and is not a sliver: the triple product against its
+    edge lengths bounds the angle between the face and the radial direction."""
+    n = cross(sub(p1, p0), sub(p2, p0))
+    nn = math.sqrt(dot(n, n))
+    c = tuple((p0[k] + p1[k] + p2[k]) / 3.0 for k in range(3))
+    return nn > 0.0 and dot(n, c) > 1e-6 * nn * math.sqrt(dot(c, c))
+
+
+def outward_ok(vertices, tris):
+    """True if every triangle faces away from the origin: the surface stays a
+    radial graph over the sphere, hence embedded, and nothing is folded."""
+    return all(tri_outward(vertices[x], vertices[y], vertices[z]) for x, y, z in tris)
+
+
+def smooth_pass(verts, nbrs, incident, tris, step, project):
+    """One Gauss-Seidel pass: each vertex moves by `step` towards the mean of
+    its neighbours (then `project`s); a move that would fold one of its
+    triangles is halved, then skipped."""
+    verts = list(verts)
+    for i, p in enumerate(verts):
+        ns = nbrs[i]
+        m = [sum(verts[j][k] for j in ns) / len(ns) for k in range(3)]
+        s = step
+        for _ in range(3):
+            q = project(tuple(p[k] + s * (m[k] - p[k]) for k in range(3)))
+            verts[i] = q
+            if all(tri_outward(verts[tris[f][0]], verts[tris[f][1]], verts[tris[f][2]])
+                   for f in incident[i]):
+                break
+            verts[i] = p
+            s *= 0.5
+    return verts
+
+
+def adjacency(nv, tris):
+    nbrs = [sorted(s) for s in valences(nv, tris)]
+    incident = [[] for _ in range(nv)]
+    for f, t in enumerate(tris):
+        for v in t:
+            incident[v].append(f)
+    return nbrs, incident
+
+
+def remesh_on_surface(directions, tris, radius, iterations=80, step=0.5):
+    """Tangential relaxation on the star-shaped surface r = radius(d): each
+    vertex moves towards the centroid of its neighbours in 3D and is projected
+    back radially onto the surface. Edge lengths even out in 3D, so the
+    stretched regions (ears, horns) get their share of vertices and the
+    triangles become well shaped; connectivity (and valences) stay."""
+    nbrs, incident = adjacency(len(directions), tris)
+
+    def project(q):
+        d = normalize(q)
+        r = radius(d)
+        return (r * d[0], r * d[1], r * d[2])
+
+    verts = [project(d) for d in directions]
+    assert outward_ok(verts, tris)
+    for _ in range(iterations):
+        verts = smooth_pass(verts, nbrs, incident, tris, step, project)
+    return verts
+
+
+def max_dihedral_degrees(verts, tris):
+    """Largest angle between the normals of two triangles sharing an edge."""
+    normals = []
+    for x, y, z in tris:
+        normals.append(normalize(cross(sub(verts[y], verts[x]), sub(verts[z], verts[x]))))
+    edge_face = {}
+    for i, (a, b, c) in enumerate(tris):
+        for e in ((a, b), (b, c), (c, a)):
+            edge_face[e] = i
+    worst = 0.0
+    for (a, b), i in edge_face.items():
+        j = edge_face[(b, a)]
+        worst = max(worst, math.degrees(math.acos(max(-1.0, min(1.0, dot(normals[i], normals[j]))))))
+    return worst
+
+
+def dihedral(verts, t1, t2):
+    """Angle in degrees between the normals of triangles t1 and t2."""
+    n1 = normalize(cross(sub(verts[t1[1]], verts[t1[0]]), sub(verts[t1[2]], verts[t1[0]])))
+    n2 = normalize(cross(sub(verts[t2[1]], verts[t2[0]]), sub(verts[t2[2]], verts[t2[0]])))
+    return math.degrees(math.acos(max(-1.0, min(1.0, dot(n1, n2)))))
+
+
+def flip_sharp_edges(verts, tris, threshold=40.0):
+    """Flips edges whose two triangles meet at more than `threshold` degrees
+    when that lowers the largest normal angle among the five edges involved,
+    keeps valences in 3..12 (and at least one vertex of valence 3 and one of
+    valence 12) and folds nothing. Returns (tris, number of flips)."""
+    tris = [tuple(t) for t in tris]
+    edge_face = {}
+    for f, (x, y, z) in enumerate(tris):
+        for e in ((x, y), (y, z), (z, x)):
+            edge_face[e] = f
+    nbrs = valences(len(verts), tris)
+    count = [0] * 13
+    for s in nbrs:
+        count[len(s)] += 1
+
+    def edge_angle(a, b):
+        return dihedral(verts, tris[edge_face[(a, b)]], tris[edge_face[(b, a)]])
+
+    flips = 0
+    for (a, b) in list(edge_face.keys()):
+        if (a, b) not in edge_face or edge_angle(a, b) <= threshold:
+            continue
+        f1, f2 = edge_face[(a, b)], edge_face[(b, a)]
+        c = [v for v in tris[f1] if v not in (a, b)][0]  # a b c
+        d = [v for v in tris[f2] if v not in (a, b)][0]  # b a d
+        if c == d or d in nbrs[c]:
+            continue
+        va, vb, vc, vd = len(nbrs[a]), len(nbrs[b]), len(nbrs[c]), len(nbrs[d])
+        if min(va, vb) - 1 < 3 or max(vc, vd) + 1 > 12:
+            continue
+        if any(val == k and count[k] == 1 for val in (va, vb, vc, vd) for k in (3, 12)):
+            continue
+        quad = [(b, c), (c, a), (a, d), (d, b)]
+        before = max([edge_angle(a, b)] + [edge_angle(*e) for e in quad])
+        n1, n2 = (c, d, b), (d, c, a)
+        if not (tri_outward(*[verts[v] for v in n1]) and tri_outward(*[verts[v] for v in n2])):
+            continue
+        old1, old2 = tris[f1], tris[f2]
+        for t in (old1, old2):
+            for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+                del edge_face[e]
+        tris[f1], tris[f2] = n1, n2
+        for f in (f1, f2):
+            t = tris[f]
+            for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+                edge_face[e] = f
+        after = max([edge_angle(c, d)] + [edge_angle(*e) for e in quad])
+        if after < before:
+            flips += 1
+            for v, delta in ((a, -1), (b, -1), (c, 1), (d, 1)):
+                count[len(nbrs[v])] -= 1
+                count[len(nbrs[v]) + delta] += 1
+            nbrs[a].discard(b)
+            nbrs[b].discard(a)
+            nbrs[c].add(d)
+            nbrs[d].add(c)
+            continue
+        for t in (n1, n2):  # undo
+            for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+                del edge_face[e]
+        tris[f1], tris[f2] = old1, old2
+        for f in (f1, f2):
+            t = tris[f]
+            for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+                edge_face[e] = f
+    return tris, flips
+
+
+def organic_mesh(n_points, seed, radius, rounds=4):
+    """Closed organic mesh: an irregular sphere triangulation (valences 3..12)
+    remeshed onto the surface r = radius(d) (Laplacian smoothing with radial
+    reprojection), then a few rounds of flipping sharp edges and relaxing
+    again; keeps the state whose sharpest edge is the least sharp."""
+    directions, tris = irregular_sphere(n_points, seed)
+    verts = remesh_on_surface(directions, tris, radius, iterations=60)
+    best = (max_dihedral_degrees(verts, tris), verts, tris)
+    for _ in range(rounds):
+        tris, flips = flip_sharp_edges(verts, tris)
+        if flips == 0:
+            break
+        verts = remesh_on_surface([normalize(p) for p in verts], tris, radius, iterations=20)
+        worst = max_dihedral_degrees(verts, tris)
+        if worst < best[0]:
+            best = (worst, verts, tris)
+    worst, verts, tris = best
+    assert outward_ok(verts, tris)
+    return verts, tris
+
+
+def bunny_lowpoly():
+    return organic_mesh(1500, 7, bunny_radius)
+
+
+def blob5k():
+    return organic_mesh(2500, 11, blob_radius)
 
 
 def quad_blob(n=8):
@@ -298,10 +517,15 @@ def main():
     v, f = icosahedron()
     write_obj(os.path.join(out, "icosahedron.obj"), v, f, "unit icosahedron (circumradius 1)")
     v, f = bunny_lowpoly()
+    print("bunny_lowpoly: %d triangles, sharpest edge %.1f degrees" % (len(f), max_dihedral_degrees(v, f)))
     write_obj(os.path.join(out, "bunny_lowpoly.obj"), v, f,
               "bunny-like closed organic mesh with valences 3..12 (stand-in for the Stanford bunny)")
     v, f = quad_blob()
     write_obj(os.path.join(out, "quad_blob.obj"), v, f, "closed all-quad blob (deformed cube-sphere)")
+    v, f = blob5k()
+    print("blob5k: %d triangles, sharpest edge %.1f degrees" % (len(f), max_dihedral_degrees(v, f)))
+    write_obj(os.path.join(out, "blob5k.obj"), v, f,
+              "knobbly closed organic blob with valences 3..12 (benchmark mesh)")
 
 
 if __name__ == "__main__":
