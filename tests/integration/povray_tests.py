@@ -455,6 +455,68 @@ def test_loop_converges_to_uniform(ctx):
         raise Failure("level 3 still differs on %.2f%% of the pixels (> 2%%)" % (100 * fractions[2]))
 
 
+STOCK_POVRAY = "/usr/bin/povray"
+STOCK_INCLUDE = "/usr/share/povray-3.7/include"
+
+
+def run_quiet(cmd, cwd):
+    return subprocess.run(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                          timeout=120).returncode
+
+
+def test_standard_includes_parse(ctx):
+    """The new reserved words (file, loop, scheme, ...) break none of POV-Ray's
+    own include files: each parses with the patched povray exactly when it
+    parses with Debian's stock povray (some need older #version settings and
+    fail in both)."""
+    if not os.access(STOCK_POVRAY, os.X_OK):
+        raise Skip("stock povray not installed (%s)" % STOCK_POVRAY)
+    import concurrent.futures
+    names = sorted(n for n in os.listdir(ctx.include) if n.endswith(".inc"))
+
+    def check(name):
+        pov = ctx.path("inc_%s.pov" % name)
+        with open(pov, "w") as f:
+            f.write('#version 3.7;\nglobal_settings { assumed_gamma 1 }\n#include "%s"\n' % name)
+        common = ["+I" + pov, "-F", "+W8", "+H8", "-D", "-V", "+WT1"]
+        patched = run_quiet([ctx.povray] + common + ["+L" + ctx.include], ctx.work)
+        stock = run_quiet([STOCK_POVRAY] + common + ["+L" + STOCK_INCLUDE], ctx.work)
+        return name, patched, stock
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
+        results = list(pool.map(check, names))
+    differ = [(n, p, s) for n, p, s in results if (p == 0) != (s == 0)]
+    print("  %d include files, %d parse with both, %d differ"
+          % (len(results), sum(1 for _, p, s in results if p == 0 and s == 0), len(differ)))
+    if differ:
+        raise Failure("parse results differ from stock povray: %s" % differ)
+
+
+def test_stock_scene_unchanged(ctx):
+    """Scenes without subdivision_mesh render as with Debian's stock povray:
+    the distribution's objects/mesh2.pov gives the identical image."""
+    if not os.access(STOCK_POVRAY, os.X_OK):
+        raise Skip("stock povray not installed (%s)" % STOCK_POVRAY)
+    scene_dir = os.path.join(os.path.dirname(ctx.include), "scenes", "objects")
+    scene = os.path.join(scene_dir, "mesh2.pov")
+    if not os.path.exists(scene):
+        raise Skip("no %s in the POV-Ray tree" % scene)
+    images = []
+    for binary, include, tag in ((ctx.povray, ctx.include, "patched"),
+                                 (STOCK_POVRAY, STOCK_INCLUDE, "stock")):
+        out = ctx.path("mesh2_%s.ppm" % tag)
+        rc = run_quiet([binary, "+I" + scene, "+O" + out, "+FP", "+W%d" % WIDTH, "+H%d" % HEIGHT,
+                        "-D", "-V", "+WT1", "+L" + include], scene_dir)
+        if rc != 0:
+            raise Failure("%s povray failed on %s (exit %d)" % (tag, scene, rc))
+        images.append(read_ppm(out))
+    if images[0] != images[1]:
+        fraction, mean, largest = compare(images[0], images[1])
+        raise Failure("objects/mesh2.pov differs from stock: %.3f%% pixels, max %d/255"
+                      % (100 * fraction, largest))
+    print("  objects/mesh2.pov: identical to stock povray")
+
+
 TESTS = {
     "level0_equals_mesh2": test_level0_equals_mesh2,
     "threads_identical": test_threads_identical,
@@ -464,6 +526,8 @@ TESTS = {
     "features": test_features,
     "open_mesh": test_open_mesh,
     "loop_converges_to_uniform": test_loop_converges_to_uniform,
+    "standard_includes_parse": test_standard_includes_parse,
+    "stock_scene_unchanged": test_stock_scene_unchanged,
 }
 for _name in BAD_CASES:
     TESTS["bad_" + _name] = (lambda n: (lambda ctx: bad_case_test(ctx, n)))(_name)
