@@ -91,4 +91,18 @@ void print_warnings(const std::vector<std::string>& warnings) {
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 }
 
+SubdividedMesh subdivide_or_explain(const Mesh& mesh, const std::string& path, SchemeKind scheme,
+                                    int levels) {
+    try {
+        return subdivide_uniform(mesh, scheme, levels);
+    } catch (const std::invalid_argument& e) {
+        throw MeshError(path + ": " + e.what());
+    } catch (const std::length_error&) {
+        throw MeshError(path + ": too large to subdivide " + std::to_string(levels) + " levels");
+    } catch (const std::bad_alloc&) {
+        throw MeshError(path + ": out of memory subdividing " + std::to_string(levels) +
+                        " levels");
+    }
+}
+
 }  // namespace subdivtrace::cli

@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "subdivtrace/scheme.h"
+#include "subdivtrace/uniform.h"
 
 namespace subdivtrace::cli {
 
@@ -35,5 +36,10 @@ MeshArgs parse_mesh_args(const Args& args, unsigned accepted, int default_levels
 
 /// Prints the reader's warnings to stderr, each prefixed "warning: ".
 void print_warnings(const std::vector<std::string>& warnings);
+
+/// Uniform subdivision for a command: failures (too many levels, out of
+/// memory) become a MeshError naming the mesh file.
+SubdividedMesh subdivide_or_explain(const Mesh& mesh, const std::string& path, SchemeKind scheme,
+                                    int levels);
 
 }  // namespace subdivtrace::cli

@@ -49,17 +49,7 @@ int run_export_mesh2(const Args& args) {
 
     const auto start = std::chrono::steady_clock::now();
     if (a.levels > 0) {
-        try {
-            mesh = to_mesh(subdivide_uniform(mesh, a.scheme, a.levels));
-        } catch (const std::invalid_argument& e) {
-            throw MeshError(a.mesh + ": " + e.what());
-        } catch (const std::length_error&) {
-            throw MeshError(a.mesh + ": too large to subdivide " + std::to_string(a.levels) +
-                            " levels");
-        } catch (const std::bad_alloc&) {
-            throw MeshError(a.mesh + ": out of memory subdividing " + std::to_string(a.levels) +
-                            " levels");
-        }
+        mesh = to_mesh(subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels));
     }
     const std::string ident = a.name.empty() ? pov_identifier(file_stem(a.mesh)) : a.name;
     write_mesh2(a.output, mesh, ident);

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "cli_args.h"
 #include "commands.h"
 #include "image_out.h"
 #include "subdivtrace/mesh_io.h"
@@ -218,7 +219,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
     };
 
     if (a.uniform >= 0) {
-        const UniformScene scene(subdivide_uniform(mesh, a.scheme, a.uniform));
+        const UniformScene scene(subdivide_or_explain(mesh, a.mesh, a.scheme, a.uniform));
         build_seconds = seconds_since(build_start);
         const Camera cam = make_camera(scene.bounds());
         image = render([&](const Ray& r, Hit& h) { return scene.intersect(r, h); }, cam, ro,

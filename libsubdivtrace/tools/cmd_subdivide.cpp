@@ -36,18 +36,7 @@ int run_subdivide(const Args& args) {
     print_warnings(warnings);
 
     const auto start = std::chrono::steady_clock::now();
-    Mesh result;
-    try {
-        result = to_mesh(subdivide_uniform(mesh, a.scheme, a.levels));
-    } catch (const std::invalid_argument& e) {
-        throw MeshError(a.mesh + ": " + e.what());
-    } catch (const std::length_error&) {
-        throw MeshError(a.mesh + ": too large to subdivide " + std::to_string(a.levels) +
-                        " levels");
-    } catch (const std::bad_alloc&) {
-        throw MeshError(a.mesh + ": out of memory subdividing " + std::to_string(a.levels) +
-                        " levels");
-    }
+    const Mesh result = to_mesh(subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     write_mesh(a.output, result);
