@@ -330,7 +330,9 @@ void SubdivisionMesh::Set_View(const Camera& camera, int image_width)
 * DESCRIPTION
 *
 *   The ray is taken into object space without normalising its direction, so
-*   the library's ray parameter is POV-Ray's depth. Camera rays start at the
+*   the library's ray parameter is POV-Ray's depth. All crossings are needed
+*   only inside CSG and for clipped_by; otherwise the nearest will do.
+*   Camera rays start at the
 *   camera (origin distance 0); other rays start where a camera ray ended,
 *   and the library sizes their footprint by the distance from the camera.
 *
@@ -364,7 +366,16 @@ bool SubdivisionMesh::All_Intersections(const Ray& ray, IStack& Depth_Stack, Tra
 	subdivtrace::TraceCounters counters;
 	std::vector<subdivtrace::Hit>& hits = hit_scratch;
 	hits.clear();
-	surface->intersect_all(local, hits, &counters);
+	if (!(Type & IS_CHILD_OBJECT) && Clip.empty())
+	{
+		// Outside CSG and unclipped, POV-Ray uses only the nearest hit (as
+		// fractal.cpp relies on): the library may stop at the first one.
+		subdivtrace::Hit hit;
+		if (surface->intersect(local, hit, &counters))
+			hits.push_back(hit);
+	}
+	else
+		surface->intersect_all(local, hits, &counters);
 	add_counters(Thread, counters);
 
 	bool found = false;
