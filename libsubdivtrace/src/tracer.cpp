@@ -225,7 +225,9 @@ struct Traversal {
 
     static double detail_gamma_point() { return gamma_bound(7); }
 
-    NodeRecord node(const NodeId& id) {
+    /// The record of a node, by reference into this thread's front cache:
+    /// valid until the next call (which may reuse the slot).
+    const NodeRecord& node(const NodeId& id) {
         thread_local NodeL1 l1;
         const std::size_t h = (std::size_t{id.face} * 0x9E3779B1u) ^ (std::size_t{id.level} << 20) ^
                               (std::size_t{id.i} * 0x85EBCA77u) ^ (std::size_t{id.j} * 0xC2B2AE3Du) ^
@@ -271,9 +273,11 @@ struct Traversal {
             const bool frozen_at_b = !refine[(e + 1) % 3];
             snap_to[e] = frozen_at_a || !frozen_at_b ? a : b;
         }
+        // Everything needed of this node's record is read before the first
+        // child is fetched, which may reuse the record's slot.
+        const double thickness = rec.shell.thickness();
         struct Child {
             NodeId id;
-            NodeRecord rec;
             DrawnCorner drawn[3];
             bool exists[3];
             double t_entry;
@@ -283,14 +287,15 @@ struct Traversal {
         for (int c = 0; c < 4; ++c) {
             Child& ch = children[c];
             ch.id = child_of(id, c);
-            ch.rec = node(ch.id);
+            const NodeRecord& child_rec = node(ch.id);
             const auto& map = child_corners(id.down, c);
             for (int k = 0; k < 3; ++k) {
                 const ChildCorner cc = map[k];
                 const bool own =
                     naive || (cc.is_edge ? refine[cc.index] : drawn[cc.index].alive);
                 if (own) {
-                    ch.drawn[k] = {ch.rec.draw_position[k], ch.rec.normal[k], grid_domain(ch.id, k), true};
+                    ch.drawn[k] = {child_rec.draw_position[k], child_rec.normal[k],
+                                   grid_domain(ch.id, k), true};
                 } else if (!cc.is_edge) {
                     ch.drawn[k] = drawn[cc.index];
                 } else {
@@ -306,7 +311,7 @@ struct Traversal {
                 else if (!q.is_edge) ch.exists[k] = refine[p.index];
                 else ch.exists[k] = true;
             }
-            ch.hit = shell_entry(ch.rec.shell, ch.drawn, ch.t_entry);
+            ch.hit = shell_entry(child_rec.shell, ch.drawn, ch.t_entry);
         }
         int order[4] = {0, 1, 2, 3};
         std::sort(order, order + 4, [&](int x, int y) {
@@ -318,7 +323,7 @@ struct Traversal {
             Child& ch = children[order[k]];
             if (!ch.hit) break;
             if (!collect_all && !drawn_out && ch.t_entry > t_max) break;
-            visit(ch.id, ch.rec, ch.drawn, ch.exists, rec.shell.thickness());
+            visit(ch.id, node(ch.id), ch.drawn, ch.exists, thickness);
         }
     }
 };
