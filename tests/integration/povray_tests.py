@@ -335,7 +335,8 @@ def test_open_mesh(ctx):
 BAD_CASES = {
     # name: (lines of the subdivision_mesh block, 1-based line within the
     #        block that the error must name, text the message must contain)
-    "negative_tolerance": (["  tolerance -0.5"], 1, "tolerance must not be negative"),
+    "negative_tolerance": (["  tolerance -0.5"], 1, "tolerance must be positive"),
+    "zero_tolerance": (["  tolerance 0"], 1, "tolerance must be positive"),
     "negative_max_level": (["  max_level -1"], 1, "max_level must be an integer"),
     "max_level_over_cap": (["  max_level {cap_plus_one}"], 1, "max_level must be an integer from 0 to {cap}"),
     "unknown_scheme": (["  scheme catmull"], 1, "Unknown subdivision scheme"),
