@@ -160,9 +160,10 @@ double compare_meshes(const SubdividedMesh& ours, const SubdividedMesh& theirs,
             return -1.0;
         }
         used[map[v]] = 1;
+        if (v >= fixed_prefix) continue;
         const std::uint32_t expected =
             prefix_map ? (*prefix_map)[v] : static_cast<std::uint32_t>(v);
-        if (v < fixed_prefix && map[v] != expected) {
+        if (map[v] != expected) {
             *why = "old vertex " + std::to_string(v) + " changed index";
             return -1.0;
         }
