@@ -1,0 +1,469 @@
+#!/usr/bin/python3
+"""Report for compare/run.sh: image errors, plots, side-by-side images, tables.
+
+usage: /usr/bin/python3 compare/report.py BUILD_DIR/compare
+
+Reads <view>/{ref,adaptive_t*,uniform_l*}.{png,json} (and povray/*.png, *.log
+if present), writes diff_*.png heat maps next to the renders, plot_*.png,
+results.csv, report.md and report.html into the same directory.
+
+Image error: RGB in [0, 1]; RMSE over all pixels and channels; max = the
+largest per-pixel difference (max over channels). Heat maps show the per-pixel
+max-channel |difference| on a fixed scale 0..HEAT_MAX (brighter = larger).
+"""
+
+import csv
+import glob
+import html
+import json
+import math
+import os
+import re
+import sys
+
+import numpy as np
+from PIL import Image
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+HEAT_MAX = 0.25
+VIEW_TITLES = {
+    "far": "far view (whole mesh in frame)",
+    "close": "close-up (mesh fills the frame, silhouette crosses it)",
+}
+
+
+def load_rgb(path):
+    return np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
+
+
+def image_error(img, ref):
+    d = np.abs(img - ref)
+    return float(np.sqrt(np.mean(d * d))), float(d.max()), d.max(axis=2)
+
+
+def heat_map(diff, path):
+    cmap = matplotlib.colormaps["inferno"]
+    rgba = cmap(np.clip(diff / HEAT_MAX, 0.0, 1.0))
+    Image.fromarray((rgba[:, :, :3] * 255).astype(np.uint8)).save(path)
+
+
+def fmt(x, digits=3):
+    if x is None or (isinstance(x, float) and math.isnan(x)):
+        return "-"
+    if isinstance(x, int):
+        return "{:,}".format(x)
+    if abs(x) >= 100:
+        return "%.0f" % x
+    return ("%%.%dg" % digits) % x
+
+
+def ratio(a, b):
+    return a / b if b else float("nan")
+
+
+class Run:
+    def __init__(self, view, name, directory):
+        self.view, self.name = view, name
+        self.png = os.path.join(directory, name + ".png")
+        with open(os.path.join(directory, name + ".json")) as f:
+            self.s = json.load(f)
+        if name.startswith("adaptive_t"):
+            self.kind, self.param = "adaptive", float(name[len("adaptive_t"):])
+            self.label = "tol %g" % self.param
+        elif name.startswith("lowmem_t"):
+            self.kind, self.param = "lowmem", float(name[len("lowmem_t"):])
+            self.label = "tol %g, cache %d MB" % (self.param, self.s.get("cache_mb", 16))
+        elif name.startswith("uniform_l"):
+            self.kind, self.param = "uniform", int(name[len("uniform_l"):])
+            self.label = "level %d" % self.param
+        else:
+            self.kind, self.param = "ref", self.s.get("tolerance")
+            self.label = "reference (tol %g, max level %d)" % (self.s["tolerance"], self.s["max_level"])
+        self.rmse = self.maxdiff = float("nan")
+        self.diff_png = None
+
+    def __getattr__(self, key):
+        s = self.__dict__.get("s", {})
+        if key in s:
+            return s[key]
+        raise AttributeError(key)
+
+    @property
+    def work(self):
+        """Nodes built (adaptive) or uniform triangles (uniform)."""
+        if self.kind == "uniform":
+            return int(self.s.get("uniform_triangles_at_deepest_level") or 0)
+        return int(self.s.get("nodes_built") or 0)
+
+
+def load_view(out, view):
+    d = os.path.join(out, view)
+    if not os.path.exists(os.path.join(d, "ref.json")):
+        return None
+    ref = Run(view, "ref", d)
+    ref_img = load_rgb(ref.png)
+    runs = []
+    for j in sorted(glob.glob(os.path.join(d, "adaptive_t*.json"))) + sorted(
+            glob.glob(os.path.join(d, "lowmem_t*.json"))) + sorted(
+            glob.glob(os.path.join(d, "uniform_l*.json"))):
+        name = os.path.basename(j)[:-5]
+        if not os.path.exists(os.path.join(d, name + ".png")):
+            continue
+        r = Run(view, name, d)
+        r.rmse, r.maxdiff, diff = image_error(load_rgb(r.png), ref_img)
+        r.diff_png = os.path.join(d, "diff_" + name + ".png")
+        heat_map(diff, r.diff_png)
+        runs.append(r)
+    adaptive = sorted([r for r in runs if r.kind == "adaptive"], key=lambda r: -r.param)
+    uniform = sorted([r for r in runs if r.kind == "uniform"], key=lambda r: r.param)
+    lowmem = [r for r in runs if r.kind == "lowmem"]
+    return ref, adaptive, uniform, lowmem
+
+
+def closest(uniform, a):
+    """Uniform run whose RMSE is closest to a's (in log scale)."""
+    ok = [u for u in uniform if u.rmse > 0]
+    if not ok or a.rmse <= 0:
+        return None
+    return min(ok, key=lambda u: abs(math.log(u.rmse) - math.log(a.rmse)))
+
+
+def cheapest_at_most(uniform, a):
+    """Lowest uniform level whose RMSE is <= a's (None if none reaches it)."""
+    for u in uniform:
+        if u.rmse <= a.rmse:
+            return u
+    return None
+
+
+def plot_view(out, view, adaptive, uniform, lowmem, x_key, x_label, path):
+    fig, ax = plt.subplots(figsize=(6.4, 4.6), dpi=100)
+    for runs, style, name in ((adaptive, "o-", "adaptive (tolerance, px)"),
+                              (uniform, "s--", "uniform subdivision + BVH (level)")):
+        xs = [getattr(r, x_key) for r in runs]
+        ys = [r.rmse for r in runs]
+        ax.plot(xs, ys, style, label=name)
+        for r, x, y in zip(runs, xs, ys):
+            ax.annotate(("%g" % r.param), (x, y), textcoords="offset points", xytext=(5, 4), fontsize=8)
+    for r in lowmem:
+        ax.plot([getattr(r, x_key)], [r.rmse], "*", markersize=11, label="adaptive, " + r.label)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(x_label)
+    ax.set_ylabel("image RMSE vs reference (RGB in [0,1])")
+    ax.set_title("%s view: error vs %s" % (view, x_label.split(" (")[0]))
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def match_rows(adaptive, uniform):
+    rows = []
+    for a in adaptive:
+        u = closest(uniform, a)
+        if u is None:
+            continue
+        le = cheapest_at_most(uniform, a)
+        rows.append({
+            "a": a, "u": u, "le": le,
+            "total": ratio(a.total_seconds, u.total_seconds),
+            "trace": ratio(a.trace_seconds, u.trace_seconds),
+            "rays_s": ratio(a.rays_per_second, u.rays_per_second),
+            "mem": ratio(a.peak_rss_mb, u.peak_rss_mb),
+            "nodes": ratio(a.work, u.work),
+        })
+    return rows
+
+
+# --- POV-Ray ------------------------------------------------------------------
+
+def pov_seconds(text, label):
+    m = re.search(label + r":.*?\(([\d.]+) seconds\)", text)
+    return float(m.group(1)) if m else float("nan")
+
+
+def load_povray(out):
+    d = os.path.join(out, "povray")
+    if not os.path.exists(os.path.join(d, "ref.png")):
+        return None
+    ref_img = load_rgb(os.path.join(d, "ref.png"))
+    runs = []
+    for log in sorted(glob.glob(os.path.join(d, "*.log"))):
+        name = os.path.basename(log)[:-4]
+        png = os.path.join(d, name + ".png")
+        if not os.path.exists(png):
+            continue
+        text = open(log, errors="replace").read()
+        m = re.search(r"Maximum resident set size \(kbytes\): (\d+)", text)
+        r = {
+            "name": name, "png": png,
+            "parse": pov_seconds(text, "Parse Time"),
+            "trace": pov_seconds(text, "Trace Time"),
+            "peak_mb": int(m.group(1)) / 1024.0 if m else float("nan"),
+            "nodes": None, "deepest": None,
+        }
+        m = re.search(r"Subdivision nodes built:\s+(\d+)", text)
+        if m:
+            r["nodes"] = int(m.group(1))
+        m = re.search(r"deepest level reached:\s+(\d+)", text)
+        if m:
+            r["deepest"] = int(m.group(1))
+        r["total"] = r["parse"] + r["trace"]
+        if name == "ref":
+            r["kind"], r["param"], r["rmse"], r["maxdiff"] = "ref", None, 0.0, 0.0
+        else:
+            if name.startswith("sdm_t"):
+                r["kind"], r["param"] = "subdivision_mesh", float(name[5:])
+            elif name.startswith("mesh2_l"):
+                r["kind"], r["param"] = "mesh2", int(name[7:])
+            else:
+                continue
+            r["rmse"], r["maxdiff"], diff = image_error(load_rgb(png), ref_img)
+            r["diff_png"] = os.path.join(d, "diff_" + name + ".png")
+            heat_map(diff, r["diff_png"])
+        runs.append(r)
+    return runs
+
+
+def plot_povray(runs, path):
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), dpi=100)
+    for ax, key, label in ((axes[0], "total", "parse + trace seconds"),
+                           (axes[1], "peak_mb", "peak RSS (MB)")):
+        for kind, style in (("subdivision_mesh", "o-"), ("mesh2", "s--")):
+            rs = sorted([r for r in runs if r["kind"] == kind], key=lambda r: r["param"],
+                        reverse=(kind == "subdivision_mesh"))
+            ax.plot([r[key] for r in rs], [max(r["rmse"], 1e-6) for r in rs], style, label=kind)
+            for r in rs:
+                ax.annotate("%g" % r["param"], (r[key], max(r["rmse"], 1e-6)),
+                            textcoords="offset points", xytext=(5, 4), fontsize=8)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(label)
+        ax.set_ylabel("image RMSE vs finest subdivision_mesh")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+    fig.suptitle("POV-Ray: subdivision_mesh (tolerance) vs mesh2 of uniform levels")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+# --- output -------------------------------------------------------------------
+
+def rel(out, path):
+    return os.path.relpath(path, out)
+
+
+def main():
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        sys.exit(2)
+    out = os.path.abspath(sys.argv[1])
+    info = {}
+    if os.path.exists(os.path.join(out, "run_info.txt")):
+        for line in open(os.path.join(out, "run_info.txt")):
+            if "=" in line:
+                k, v = line.rstrip("\n").split("=", 1)
+                info[k] = v
+
+    md = ["# Adaptive tracer vs uniform subdivision", ""]
+    h = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>subdivtrace compare</title>",
+         "<style>body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em}"
+         "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;padding:2px 6px;"
+         "text-align:right}th{background:#eee}img{border:1px solid #888;margin:2px}"
+         "figure{display:inline-block;margin:4px}figcaption{font-size:small}"
+         ".good{background:#dfd}.bad{background:#fdd}</style></head><body>",
+         "<h1>Adaptive tracer vs uniform subdivision</h1>"]
+
+    def para(text):
+        md.extend([text, ""])
+        h.append("<p>%s</p>" % html.escape(text))
+
+    def table(header, rows, classes=None):
+        md.append("| " + " | ".join(header) + " |")
+        md.append("|" + "---|" * len(header))
+        for row in rows:
+            md.append("| " + " | ".join(row) + " |")
+        md.append("")
+        h.append("<table><tr>" + "".join("<th>%s</th>" % html.escape(c) for c in header) + "</tr>")
+        for i, row in enumerate(rows):
+            cls = classes[i] if classes else [""] * len(row)
+            h.append("<tr>" + "".join(
+                "<td%s>%s</td>" % ((" class='%s'" % c) if c else "", html.escape(x))
+                for x, c in zip(row, cls)) + "</tr>")
+        h.append("</table>")
+
+    def images(items):
+        for path, caption in items:
+            md.append("![%s](%s)" % (caption, rel(out, path)))
+        md.append("")
+        md.append(" / ".join(c for _, c in items))
+        md.append("")
+        h.append("<div>" + "".join(
+            "<figure><img src='%s'><figcaption>%s</figcaption></figure>"
+            % (html.escape(rel(out, p)), html.escape(c)) for p, c in items) + "</div>")
+
+    para("Mesh: %s. Image %s. Machine: %s; %s. Load average before/after: %s / %s "
+         "(the machine is shared: absolute times are noisy, compare ratios). Commit %s, %s."
+         % (os.path.basename(info.get("mesh", "?")), info.get("size", "?"), info.get("host", "?"),
+            info.get("cpu", "?"), info.get("load_before", "?"), info.get("load_after", "?"),
+            info.get("commit", "?"), info.get("date", "?")))
+    para("Image error: RGB in [0,1] against the reference render; RMSE over all pixels and "
+         "channels, max = largest per-pixel difference. Heat maps: per-pixel max-channel "
+         "|difference|, inferno colour map, black = 0, yellow = %g or more. Ratios are "
+         "adaptive / uniform (below 1 = the adaptive tracer uses less)." % HEAT_MAX)
+
+    csv_rows = []
+    summary = {}
+    for view in ("far", "close"):
+        loaded = load_view(out, view)
+        if loaded is None:
+            continue
+        ref, adaptive, uniform, lowmem = loaded
+        title = VIEW_TITLES.get(view, view)
+        md.extend(["## %s" % title, ""])
+        h.append("<h2>%s</h2>" % html.escape(title))
+        para("Camera: %s. Reference: %s, %s s total, %s MB peak, %s nodes built, deepest level %s."
+             % (info.get("camera_" + view) or "default (frames the whole mesh)", ref.label,
+                fmt(ref.total_seconds), fmt(ref.peak_rss_mb), fmt(ref.work), ref.s.get("deepest_level")))
+
+        p_time = os.path.join(out, "plot_%s_time.png" % view)
+        p_mem = os.path.join(out, "plot_%s_memory.png" % view)
+        plot_view(out, view, adaptive, uniform, lowmem, "total_seconds", "total seconds (build + trace)", p_time)
+        plot_view(out, view, adaptive, uniform, lowmem, "peak_rss_mb", "peak RSS (MB)", p_mem)
+        images([(p_time, "RMSE vs total time"), (p_mem, "RMSE vs peak memory")])
+
+        md.extend(["### All renders", ""])
+        h.append("<h3>All renders</h3>")
+        rows = []
+        for r in [ref] + adaptive + lowmem + uniform:
+            rows.append([r.kind, r.label if r.kind != "ref" else "reference",
+                         fmt(r.rmse, 3) if r.kind != "ref" else "0", fmt(r.maxdiff, 3) if r.kind != "ref" else "0",
+                         fmt(r.total_seconds), fmt(r.build_seconds), fmt(r.trace_seconds),
+                         fmt(r.rays_per_second / 1e6, 3), fmt(r.peak_rss_mb),
+                         fmt(r.work), fmt(r.s.get("nodes_visited_per_ray")),
+                         str(r.s.get("deepest_level", r.param))])
+            csv_rows.append({"view": view, "kind": r.kind, "param": r.param, "rmse": r.rmse,
+                             "max_diff": r.maxdiff, "total_s": r.total_seconds,
+                             "build_s": r.build_seconds, "trace_s": r.trace_seconds,
+                             "rays_per_s": r.rays_per_second, "peak_rss_mb": r.peak_rss_mb,
+                             "nodes_or_triangles": r.work, "rays": r.rays,
+                             "deepest_level": r.s.get("deepest_level")})
+        table(["kind", "setting", "RMSE", "max diff", "total s", "build s", "trace s", "Mrays/s",
+               "peak MB", "nodes built / uniform tris", "nodes visited/ray", "deepest level"], rows)
+
+        md.extend(["### Adaptive vs uniform at matching image error", ""])
+        h.append("<h3>Adaptive vs uniform at matching image error</h3>")
+        para("For each tolerance, the uniform level whose RMSE is closest (log scale); ratios are "
+             "adaptive / uniform. 'uniform <= err' is the lowest uniform level at least as accurate "
+             "as the adaptive render. Targets (close-up): memory <= 0.1, total time <= 1, "
+             "nodes built <= 0.1.")
+        mrows = match_rows(adaptive + lowmem, uniform)
+        rows, classes = [], []
+        for m in mrows:
+            a, u, le = m["a"], m["u"], m["le"]
+            rows.append([a.label, fmt(a.rmse), u.label, fmt(u.rmse),
+                         le.label if le else "none",
+                         fmt(m["total"]), fmt(m["trace"]), fmt(m["rays_s"]), fmt(m["mem"]),
+                         "%s / %s = %s" % (fmt(a.work), fmt(u.work), fmt(m["nodes"]))])
+            classes.append(["", "", "", "", "",
+                            "good" if m["total"] <= 1 else "bad",
+                            "good" if m["trace"] <= 1 else "bad",
+                            "good" if m["rays_s"] >= 1 else "bad",
+                            "good" if m["mem"] <= 0.1 else ("" if m["mem"] <= 1 else "bad"),
+                            "good" if m["nodes"] <= 0.1 else ("" if m["nodes"] <= 1 else "bad")])
+        table(["adaptive", "RMSE", "closest uniform", "RMSE", "uniform <= err",
+               "total time ratio", "trace time ratio", "rays/s ratio", "peak memory ratio",
+               "nodes built vs uniform triangles"], rows, classes)
+        summary[view] = mrows
+
+        # Side by side: reference, adaptive tol 1, closest uniform; diff maps.
+        a1 = [a for a in adaptive if a.param == 1.0] or adaptive[len(adaptive) // 2:][:1]
+        if a1:
+            a1 = a1[0]
+            u1 = closest(uniform, a1)
+            md.extend(["### Images", ""])
+            h.append("<h3>Images</h3>")
+            items = [(ref.png, "reference"), (a1.png, "adaptive %s (RMSE %s, %s s, %s MB)"
+                                              % (a1.label, fmt(a1.rmse), fmt(a1.total_seconds), fmt(a1.peak_rss_mb)))]
+            if u1:
+                items.append((u1.png, "uniform %s (RMSE %s, %s s, %s MB)"
+                              % (u1.label, fmt(u1.rmse), fmt(u1.total_seconds), fmt(u1.peak_rss_mb))))
+            images(items)
+            items = [(a1.diff_png, "|adaptive %s - reference|, max %s" % (a1.label, fmt(a1.maxdiff)))]
+            if u1:
+                items.append((u1.diff_png, "|uniform %s - reference|, max %s" % (u1.label, fmt(u1.maxdiff))))
+            images(items)
+            coarse = [u for u in uniform if u.param <= 1]
+            if coarse:
+                images([(u.diff_png, "|uniform %s - reference| (RMSE %s)" % (u.label, fmt(u.rmse)))
+                        for u in coarse] +
+                       [(a.diff_png, "|adaptive %s - reference| (RMSE %s)" % (a.label, fmt(a.rmse)))
+                        for a in adaptive if a.param >= 4])
+
+    # Summary table across views (tolerance 1).
+    if summary:
+        md.extend(["## Summary: adaptive at tolerance 1 vs uniform at the closest error", ""])
+        h.append("<h2>Summary: adaptive at tolerance 1 vs uniform at the closest error</h2>")
+        rows = []
+        for view, mrows in summary.items():
+            for m in mrows:
+                if m["a"].param == 1.0:
+                    rows.append([view, m["u"].label, fmt(m["a"].rmse), fmt(m["u"].rmse),
+                                 fmt(m["total"]), fmt(m["trace"]), fmt(m["rays_s"]), fmt(m["mem"]),
+                                 fmt(m["nodes"])])
+        table(["view", "uniform", "RMSE adaptive", "RMSE uniform", "total time", "trace time",
+               "rays/s", "peak memory", "nodes/triangles"], rows)
+
+    pov = load_povray(out)
+    if pov:
+        md.extend(["## POV-Ray: subdivision_mesh vs mesh2", ""])
+        h.append("<h2>POV-Ray: subdivision_mesh vs mesh2</h2>")
+        para("Same scene (shadows, ground plane, no anti-aliasing, 2 threads) with either a "
+             "subdivision_mesh of the mesh at a tolerance or a mesh2 include of a uniform level "
+             "(subdivtrace export-mesh2). Error against the finest subdivision_mesh render. Parse "
+             "and trace time from POV-Ray's summary, peak RSS from /usr/bin/time -v (the whole "
+             "povray process, so parse memory included).")
+        p = os.path.join(out, "plot_povray.png")
+        plot_povray(pov, p)
+        images([(p, "POV-Ray: RMSE vs time and memory")])
+        rows = []
+        for r in sorted(pov, key=lambda r: (r["kind"], -(r["param"] or 0) if r["kind"] != "mesh2" else r["param"])):
+            rows.append([r["kind"], "-" if r["param"] is None else "%g" % r["param"], fmt(r["rmse"]),
+                         fmt(r["maxdiff"]), fmt(r["parse"]), fmt(r["trace"]), fmt(r["total"]),
+                         fmt(r["peak_mb"]), fmt(r["nodes"]) if r["nodes"] is not None else "-"])
+            csv_rows.append({"view": "povray", "kind": r["kind"], "param": r["param"], "rmse": r["rmse"],
+                             "max_diff": r["maxdiff"], "total_s": r["total"], "build_s": r["parse"],
+                             "trace_s": r["trace"], "rays_per_s": "", "peak_rss_mb": r["peak_mb"],
+                             "nodes_or_triangles": r["nodes"], "rays": "", "deepest_level": r["deepest"]})
+        table(["object", "tolerance / level", "RMSE", "max diff", "parse s", "trace s", "total s",
+               "peak MB", "nodes built"], rows)
+        ref = [r for r in pov if r["kind"] == "ref"]
+        a = [r for r in pov if r["kind"] == "subdivision_mesh"]
+        m2 = sorted([r for r in pov if r["kind"] == "mesh2"], key=lambda r: r["param"])
+        items = [(r["png"], "%s %s" % (r["kind"], "" if r["param"] is None else "%g" % r["param"]))
+                 for r in ref + a[-1:] + m2[-2:]]
+        images(items)
+        images([(r["diff_png"], "|%s %g - ref| (RMSE %s)" % (r["kind"], r["param"], fmt(r["rmse"])))
+                for r in a + m2])
+
+    with open(os.path.join(out, "results.csv"), "w", newline="") as f:
+        if csv_rows:
+            w = csv.DictWriter(f, fieldnames=list(csv_rows[0].keys()))
+            w.writeheader()
+            w.writerows(csv_rows)
+    h.append("</body></html>")
+    with open(os.path.join(out, "report.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
+    with open(os.path.join(out, "report.html"), "w") as f:
+        f.write("\n".join(h) + "\n")
+    print("report: %s (and report.md, results.csv)" % os.path.join(out, "report.html"))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,211 @@
+#!/usr/bin/env bash
+# Adaptive tracer vs uniform subdivision: error against time and memory.
+#
+#   compare/run.sh BUILD_DIR [--quick] [--reuse] [--no-povray]
+#
+# Renders data/blob5k.obj from two views (far: the whole mesh; close: the mesh
+# fills the frame and a silhouette crosses it), one render at a time:
+#   ref       adaptive at tolerance 0.25, max level 10 (the reference image)
+#   adaptive  tolerance 8 4 2 1 0.5 (--quick: 4 2 1 0.5), node cache $CACHE_MB
+#             (64 MB), and tolerance 1 with a 16 MB cache (lowmem_t1)
+#   uniform   levels 0..5 (--quick: 0..4); a level whose memory, extrapolated
+#             from the level before (x4), would exceed ~6 GB is skipped
+# Shadows on, default light, same camera for all. Every render writes a PNG and
+# its --stats-json next to it in BUILD_DIR/compare/<view>/. Then, if the
+# patched POV-Ray exists (BUILD_DIR/povray/src/unix/povray, or $POVRAY), a
+# smaller sweep through it into BUILD_DIR/compare/povray/. Finally
+# compare/report.py measures the image errors and writes
+# BUILD_DIR/compare/report.html and report.md.
+#
+# --reuse   keep renders whose JSON already exists (re-run the report only)
+# --no-povray  skip the POV-Ray sweep
+# Environment: SUBDIVTRACE_CLI (default BUILD_DIR/bin/subdivtrace), POVRAY
+# (default BUILD_DIR/povray/src/unix/povray).
+set -euo pipefail
+
+usage() { echo "usage: compare/run.sh BUILD_DIR [--quick] [--reuse] [--no-povray]" >&2; exit 2; }
+[[ $# -ge 1 ]] || usage
+build=$(cd "$1" && pwd)
+shift
+quick=0 reuse=0 povray_on=1
+for a in "$@"; do
+    case "$a" in
+        --quick) quick=1 ;;
+        --reuse) reuse=1 ;;
+        --no-povray) povray_on=0 ;;
+        *) usage ;;
+    esac
+done
+
+here=$(cd "$(dirname "$0")" && pwd)
+repo=$(dirname "$here")
+cli="${SUBDIVTRACE_CLI:-$build/bin/subdivtrace}"
+[[ -x "$cli" ]] || { echo "no CLI at $cli (build the subdivtrace_cli target)" >&2; exit 1; }
+py=/usr/bin/python3
+mesh="$repo/data/blob5k.obj"
+out="$build/compare"
+mkdir -p "$out"
+
+if [[ $quick == 1 ]]; then
+    size=(--width 320 --height 240)
+    ref_tol=0.25 ref_level=10
+    tolerances=(4 2 1 0.5)
+    levels=(0 1 2 3 4)
+    pov_size=(+W240 +H180)
+    pov_tols=(2 1)
+    pov_levels=(0 1 2 3)
+    pov_ref_tol=0.5
+else
+    size=(--width 640 --height 480)
+    ref_tol=0.25 ref_level=10
+    tolerances=(8 4 2 1 0.5)
+    levels=(0 1 2 3 4 5)
+    pov_size=(+W320 +H240)
+    pov_tols=(4 2 1)
+    pov_levels=(0 1 2 3 4)
+    pov_ref_tol=0.5
+fi
+mem_limit_mb=6000
+# Node cache budget of the adaptive renders (MB). The CLI's default is 512; the
+# cache reserves its budget up front, so peak RSS follows the budget, not the
+# work. 64 was as fast as 512 here. One extra render per view at tolerance 1
+# with a 16 MB budget shows the memory floor.
+cache_mb=${CACHE_MB:-64}
+lowmem_cache_mb=16
+
+# view name -> camera options. Both explicit: the CLI's default camera frames
+# the bounding box of the mesh it renders, which for --uniform K is the level-K
+# mesh's (slightly smaller), so default framing would differ between renders.
+views=(far close)
+declare -A camera=(
+    [far]="--look-from 5.1,3.5,7.3 --look-at 0.02,0.15,-0.07 --fov 40"
+    [close]="--look-from 3.0,1.2,1.4 --look-at 0.7,0.5,0.0 --fov 35"
+)
+
+{
+    echo "mesh=$mesh"
+    echo "size=${size[*]}"
+    echo "quick=$quick"
+    echo "date=$(date -Is)"
+    echo "host=$(uname -srm), $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GB", $2/1048576}' /proc/meminfo)"
+    echo "cpu=$(awk -F': ' '/model name/ {print $2; exit}' /proc/cpuinfo)"
+    echo "load_before=$(cut -d' ' -f1-3 /proc/loadavg)"
+    echo "commit=$(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown)$(
+        [[ -n $(git -C "$repo" status --porcelain libsubdivtrace 2>/dev/null) ]] && echo " (library sources modified)")"
+    echo "cli=$cli"
+    for v in "${views[@]}"; do echo "camera_$v=${camera[$v]}"; done
+    echo "cache_mb=$cache_mb (lowmem_t1: $lowmem_cache_mb)"
+} > "$out/run_info.txt"
+
+start=$(date +%s)
+elapsed() { echo $(( $(date +%s) - start ))s; }
+
+# render VIEW NAME ARGS...: one render with retries (the tracer may be rebuilt
+# under us); skips if --reuse and the JSON exists.
+render() {
+    local view=$1 name=$2
+    shift 2
+    local dir="$out/$view"
+    mkdir -p "$dir"
+    if [[ $reuse == 1 && -s "$dir/$name.json" && -s "$dir/$name.png" ]]; then
+        echo "[$(elapsed)] $view/$name: reused"
+        return 0
+    fi
+    local try
+    for try in 1 2 3; do
+        # shellcheck disable=SC2086
+        if "$cli" render "$mesh" -o "$dir/$name.png" "${size[@]}" ${camera[$view]} "$@" \
+            --stats-json "$dir/$name.json" --quiet 2> "$dir/$name.log"; then
+            "$py" - "$dir/$name.json" "$view/$name" "$(elapsed)" <<'EOF'
+import json, sys
+s = json.load(open(sys.argv[1]))
+print("[%s] %-16s total %7.2fs (build %6.2fs, trace %7.2fs)  peak %7.1f MB  nodes %s" % (
+    sys.argv[3], sys.argv[2], s["total_seconds"], s["build_seconds"], s["trace_seconds"],
+    s["peak_rss_mb"], s.get("nodes_built", "-")))
+EOF
+            return 0
+        fi
+        echo "[$(elapsed)] $view/$name failed (try $try): $(tail -n 2 "$dir/$name.log" | tr '\n' ' ')" >&2
+        rm -f "$dir/$name.json"
+        [[ $try == 3 ]] || sleep 60
+    done
+    return 1
+}
+
+for view in "${views[@]}"; do
+    echo "== view $view (${camera[$view]:-default camera})"
+    render "$view" ref --tolerance "$ref_tol" --max-level "$ref_level" --cache-mb "$cache_mb"
+    for t in "${tolerances[@]}"; do
+        render "$view" "adaptive_t$t" --tolerance "$t" --max-level "$ref_level" --cache-mb "$cache_mb"
+    done
+    render "$view" lowmem_t1 --tolerance 1 --max-level "$ref_level" --cache-mb "$lowmem_cache_mb"
+    for k in "${levels[@]}"; do
+        if [[ $k -gt 0 && -s "$out/$view/uniform_l$((k - 1)).json" ]]; then
+            prev=$("$py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["peak_rss_mb"])' \
+                "$out/$view/uniform_l$((k - 1)).json")
+            if "$py" -c 'import sys; sys.exit(0 if 4 * float(sys.argv[1]) > float(sys.argv[2]) else 1)' \
+                "$prev" "$mem_limit_mb"; then
+                echo "[$(elapsed)] $view/uniform_l$k: skipped (level $((k - 1)) peaked at $prev MB, x4 > $mem_limit_mb MB)"
+                rm -f "$out/$view/uniform_l$k.json" "$out/$view/uniform_l$k.png"
+                continue
+            fi
+        fi
+        render "$view" "uniform_l$k" --uniform "$k"
+    done
+done
+
+# --- POV-Ray (optional) -------------------------------------------------------
+pov="${POVRAY:-$build/povray/src/unix/povray}"
+if [[ $povray_on == 1 && -x "$pov" ]]; then
+    echo "== POV-Ray sweep ($pov)"
+    pdir="$out/povray"
+    mkdir -p "$pdir"
+    cp "$mesh" "$pdir/blob5k.obj"
+    # pov_render NAME OBJECT_SDL: one scene, stats from the render summary on stderr
+    pov_render() {
+        local name=$1 object=$2
+        if [[ $reuse == 1 && -s "$pdir/$name.png" && -s "$pdir/$name.log" ]]; then
+            echo "[$(elapsed)] povray/$name: reused"
+            return 0
+        fi
+        cat > "$pdir/$name.pov" <<EOF
+#version 3.7;
+global_settings { assumed_gamma 1.0 }
+camera { location <3.6, 2.2, 4.2> look_at <0, 0.1, 0> angle 40 }
+light_source { <6, 8, 6> color rgb 1 }
+light_source { <-5, 3, 4> color rgb 0.3 shadowless }
+background { color rgb <0.3, 0.33, 0.38> }
+plane { y, -1.05 pigment { color rgb 0.7 } }
+$object
+EOF
+        local try
+        for try in 1 2 3; do
+            if (cd "$pdir" && /usr/bin/time -v "$pov" +I"$name.pov" +O"$name.png" "${pov_size[@]}" \
+                -D +FN +A0.0 -V +WT2 > "$name.out" 2> "$name.log"); then
+                echo "[$(elapsed)] povray/$name: $(grep -E 'Elapsed \(wall' "$pdir/$name.log" | sed 's/.*: //') wall, peak $(awk '/Maximum resident/ {printf "%.0f MB", $NF/1024}' "$pdir/$name.log")"
+                return 0
+            fi
+            echo "[$(elapsed)] povray/$name failed (try $try): $(tail -n 3 "$pdir/$name.log" | tr '\n' ' ')" >&2
+            [[ $try == 3 ]] || sleep 60
+        done
+        return 1
+    }
+    material='texture { pigment { color rgb <0.92, 0.88, 0.8> } finish { diffuse 0.8 specular 0.2 } }'
+    pov_render "ref" "subdivision_mesh { file \"blob5k.obj\" scheme normal tolerance $pov_ref_tol max_level 10 cache_mb $cache_mb $material }" || true
+    for t in "${pov_tols[@]}"; do
+        pov_render "sdm_t$t" "subdivision_mesh { file \"blob5k.obj\" scheme normal tolerance $t max_level 10 cache_mb $cache_mb $material }" || true
+    done
+    for k in "${pov_levels[@]}"; do
+        if [[ $reuse == 0 || ! -s "$pdir/mesh2_l$k.inc" ]]; then
+            "$cli" export-mesh2 "$mesh" -o "$pdir/mesh2_l$k.inc" --levels "$k" --name "Blob_l$k" > /dev/null 2>&1
+        fi
+        pov_render "mesh2_l$k" "#include \"mesh2_l$k.inc\" object { Blob_l$k $material }" || true
+    done
+else
+    echo "== POV-Ray sweep skipped (no executable at $pov)"
+fi
+
+echo "load_after=$(cut -d' ' -f1-3 /proc/loadavg)" >> "$out/run_info.txt"
+echo "== report"
+"$py" "$here/report.py" "$out"
+echo "[$(elapsed)] done: $out/report.html"
