@@ -1,18 +1,17 @@
 #pragma once
-// A thread-safe cache with a byte budget, shared by all render threads: the
-// shape of Embree's tessellation cache (lookup(key) or insert(key, value),
-// values copied out, so a reader never holds memory an eviction could free).
-//
-// Sharded: each shard is one flat open-addressing table (linear probing,
-// at most 3/4 full) under its own mutex, with CLOCK eviction (a referenced
-// bit per entry, a hand that sweeps), which approximates least-recently-used
-// without a list: about 2/3 of the memory of a node-based map plus list, and
-// no allocation per entry.
+// A thread-safe cache with a byte budget: sharded hash maps, each shard with
+// its own mutex and least-recently-used list (the shape of Embree's
+// tessellation cache: lookup(key) or insert(key, value), values copied out so a
+// reader never holds a pointer an eviction could free).
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <list>
 #include <mutex>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace subdivtrace::detail {
@@ -29,63 +28,53 @@ struct CacheCounters {
 template <class Key, class Value, class Hash>
 class ShardedLruCache {
 public:
+    /// Cost of one entry as allocated: the key twice (list and map), the
+    /// value, two list pointers, the map node's next pointer, cached hash and
+    /// iterator, a bucket slot, and malloc's header on both nodes.
+    static constexpr std::size_t k_entry_bytes = 2 * sizeof(Key) + sizeof(Value) + 80;
+
     explicit ShardedLruCache(std::size_t budget_bytes, std::size_t shard_count = 64)
         : shards_(shard_count) {
-        // The largest table per shard that fits the budget, kept at most 3/4
-        // full (linear probing stays short at that load).
-        const std::size_t slots = std::max<std::size_t>(8, budget_bytes / shards_.size() / sizeof(Slot));
-        // Every shard keeps a few entries, so a tiny budget still makes
-        // progress (it only costs recomputation).
-        capacity_ = slots * 3 / 4;
-        for (Shard& s : shards_) s.slots.resize(slots);
+        set_budget(budget_bytes);
+    }
+
+    void set_budget(std::size_t budget_bytes) {
+        // Every shard keeps at least a few entries, so a tiny budget still
+        // makes progress (it only costs recomputation).
+        const std::size_t per_shard = budget_bytes / shards_.size();
+        max_entries_per_shard_ = std::max<std::size_t>(4, per_shard / k_entry_bytes);
     }
 
     /// Copies the cached value into `out`; false on a miss.
     bool lookup(const Key& key, Value& out) {
-        const std::size_t h = Hash{}(key);
-        Shard& s = shard_for(h);
+        Shard& s = shard_for(key);
         std::lock_guard<std::mutex> lock(s.mutex);
-        const std::size_t n = s.slots.size();
-        for (std::size_t i = home(h, n);; i = next(i, n)) {
-            Slot& slot = s.slots[i];
-            if (!slot.full) {
-                ++s.misses;
-                return false;
-            }
-            if (slot.key == key) {
-                ++s.hits;
-                slot.referenced = true;
-                out = slot.value;
-                return true;
-            }
+        auto it = s.map.find(key);
+        if (it == s.map.end()) {
+            ++s.misses;
+            return false;
         }
+        ++s.hits;
+        s.order.splice(s.order.begin(), s.order, it->second);
+        out = it->second->second;
+        return true;
     }
 
-    /// Inserts (or keeps the existing value for) key, evicting entries the
-    /// clock hand finds unreferenced while the shard is at capacity.
+    /// Inserts (or keeps the existing value for) key, evicting the least
+    /// recently used entries of the shard past the budget.
     void insert(const Key& key, const Value& value) {
-        const std::size_t h = Hash{}(key);
-        Shard& s = shard_for(h);
+        Shard& s = shard_for(key);
         std::lock_guard<std::mutex> lock(s.mutex);
-        const std::size_t n = s.slots.size();
-        for (std::size_t i = home(h, n);; i = next(i, n)) {
-            if (!s.slots[i].full) break;
-            if (s.slots[i].key == key) return;
+        if (s.map.count(key)) return;
+        s.order.emplace_front(key, value);
+        s.map.emplace(key, s.order.begin());
+        ++s.insertions;
+        while (s.map.size() > max_entries_per_shard_) {
+            s.map.erase(s.order.back().first);
+            s.order.pop_back();
+            ++s.evictions;
         }
-        while (s.count >= capacity_) evict_one(s);
-        for (std::size_t i = home(h, n);; i = next(i, n)) {
-            Slot& slot = s.slots[i];
-            if (!slot.full) {
-                slot.key = key;
-                slot.value = value;
-                slot.full = true;
-                slot.referenced = false;
-                ++s.count;
-                ++s.insertions;
-                s.peak = std::max(s.peak, s.count);
-                return;
-            }
-        }
+        s.peak_entries = std::max(s.peak_entries, s.map.size());
     }
 
     CacheCounters counters() const {
@@ -96,71 +85,29 @@ public:
             c.misses += s.misses;
             c.insertions += s.insertions;
             c.evictions += s.evictions;
-            // The tables are allocated whole: that is the memory they hold.
-            c.bytes += s.slots.size() * sizeof(Slot);
-            c.peak_bytes += s.slots.size() * sizeof(Slot);
+            c.bytes += s.map.size() * k_entry_bytes;
+            c.peak_bytes += s.peak_entries * k_entry_bytes;
         }
         return c;
     }
 
 private:
-    struct Slot {
-        Key key{};
-        Value value{};
-        bool full = false;
-        bool referenced = false;
-    };
     struct Shard {
         mutable std::mutex mutex;
-        std::vector<Slot> slots;
-        std::size_t count = 0;
-        std::size_t hand = 0;
+        std::list<std::pair<Key, Value>> order;
+        std::unordered_map<Key, typename std::list<std::pair<Key, Value>>::iterator, Hash> map;
         std::uint64_t hits = 0, misses = 0, insertions = 0, evictions = 0;
-        std::size_t peak = 0;
+        std::size_t peak_entries = 0;
     };
 
-    static std::size_t home(std::size_t h, std::size_t n) { return (h ^ (h >> 29)) % n; }
-    static std::size_t next(std::size_t i, std::size_t n) { return i + 1 == n ? 0 : i + 1; }
-
-    Shard& shard_for(std::size_t h) { return shards_[(h >> 7) % shards_.size()]; }
-
-    /// CLOCK: clear referenced bits until an unreferenced entry comes up,
-    /// remove it, and close the gap (backward-shift deletion keeps linear
-    /// probing correct without tombstones).
-    void evict_one(Shard& s) {
-        const std::size_t n = s.slots.size();
-        for (;;) {
-            Slot& slot = s.slots[s.hand];
-            const std::size_t at = s.hand;
-            s.hand = next(s.hand, n);
-            if (!slot.full) continue;
-            if (slot.referenced) {
-                slot.referenced = false;
-                continue;
-            }
-            erase_at(s, at);
-            ++s.evictions;
-            return;
-        }
-    }
-
-    void erase_at(Shard& s, std::size_t i) {
-        const std::size_t n = s.slots.size();
-        s.slots[i].full = false;
-        --s.count;
-        for (std::size_t j = next(i, n); s.slots[j].full; j = next(j, n)) {
-            const std::size_t k = home(Hash{}(s.slots[j].key), n);
-            // Move j back into the gap unless its home lies cyclically in (i, j].
-            const bool home_between = i <= j ? (i < k && k <= j) : (i < k || k <= j);
-            if (home_between) continue;
-            s.slots[i] = s.slots[j];
-            s.slots[j].full = false;
-            i = j;
-        }
+    Shard& shard_for(const Key& key) {
+        // The high bits of the hash pick the shard, the map uses all of them.
+        const std::size_t h = Hash{}(key);
+        return shards_[(h >> 7) % shards_.size()];
     }
 
     std::vector<Shard> shards_;
-    std::size_t capacity_ = 4;
+    std::size_t max_entries_per_shard_ = 4;
 };
 
 }  // namespace subdivtrace::detail
