@@ -8,7 +8,7 @@
 #   ref       adaptive at tolerance 0.25, max level 10 (the reference image)
 #   adaptive  tolerance 8 4 2 1 0.5 (--quick: 4 2 1 0.5), node cache $CACHE_MB
 #             (64 MB), and tolerance 1 with a 16 MB cache (lowmem_t1)
-#   uniform   levels 0..5 (--quick: 0..4); a level whose memory, extrapolated
+#   uniform   levels 0..6 (--quick: 0..4); a level whose memory, extrapolated
 #             from the level before (x4), would exceed ~6 GB is skipped
 # Shadows on, default light, same camera for all. Every render writes a PNG and
 # its --stats-json next to it in BUILD_DIR/compare/<view>/. Then, if the
@@ -59,7 +59,7 @@ else
     size=(--width 640 --height 480)
     ref_tol=0.25 ref_level=10
     tolerances=(8 4 2 1 0.5)
-    levels=(0 1 2 3 4 5)
+    levels=(0 1 2 3 4 5 6)
     pov_size=(+W320 +H240)
     pov_tols=(4 2 1)
     pov_levels=(0 1 2 3 4)
