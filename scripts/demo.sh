@@ -36,7 +36,7 @@ mesh=data/bunny_lowpoly.obj
 
 if [ -f compare/run.sh ]; then
     step "compare/: error against run time and memory"
-    bash compare/run.sh build
+    bash compare/run.sh build --quick
 fi
 
 step "done"
