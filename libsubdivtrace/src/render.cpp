@@ -249,13 +249,21 @@ std::size_t UniformScene::memory_bytes() const {
 
 std::size_t UniformScene::triangle_count() const { return impl_->mesh.triangles.size(); }
 
-std::size_t peak_rss_bytes() {
+namespace {
+
+std::size_t proc_status_bytes(const char* field) {
     std::ifstream status("/proc/self/status");
     std::string line;
+    const std::string prefix = std::string(field) + ":";
     while (std::getline(status, line)) {
-        if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+        if (line.rfind(prefix, 0) == 0) return std::stoull(line.substr(prefix.size())) * 1024;
     }
     return 0;
 }
+
+}  // namespace
+
+std::size_t peak_rss_bytes() { return proc_status_bytes("VmHWM"); }
+std::size_t current_rss_bytes() { return proc_status_bytes("VmRSS"); }
 
 }  // namespace subdivtrace

@@ -147,7 +147,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 /// Everything one render measured, for --stats-json and `stats`.
 std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& rs,
                        const SurfaceStats* ss, std::uint64_t uniform_triangles,
-                       std::size_t scene_bytes) {
+                       std::size_t scene_bytes, std::size_t baseline_rss) {
     std::ostringstream j;
     j.precision(10);
     j << "{\n";
@@ -160,7 +160,13 @@ std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& r
     j << "  \"build_seconds\": " << build_s << ",\n";
     j << "  \"trace_seconds\": " << rs.trace_seconds << ",\n";
     j << "  \"total_seconds\": " << build_s + rs.trace_seconds << ",\n";
+    // The process's resident set before the mesh is read (mostly shared
+    // libraries: OpenImageIO pulls in ~260), and the peak above it.
     j << "  \"peak_rss_mb\": " << peak_rss_bytes() / 1048576.0 << ",\n";
+    j << "  \"baseline_rss_mb\": " << baseline_rss / 1048576.0 << ",\n";
+    j << "  \"peak_rss_above_baseline_mb\": "
+      << (peak_rss_bytes() > baseline_rss ? peak_rss_bytes() - baseline_rss : 0) / 1048576.0
+      << ",\n";
     j << "  \"rays\": " << rs.rays << ", \"shadow_rays\": " << rs.shadow_rays
       << ", \"hit_pixels\": " << rs.hit_pixels << ",\n";
     j << "  \"rays_per_second\": " << (rs.trace_seconds > 0 ? rs.rays / rs.trace_seconds : 0.0)
@@ -193,6 +199,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
         }
     }
     const RenderArgs a = parse_render_args(args, write_png);
+    const std::size_t baseline_rss = current_rss_bytes();
     std::vector<std::string> warnings;
     const auto build_start = std::chrono::steady_clock::now();
     Mesh mesh = read_mesh(a.mesh, &warnings);
@@ -224,7 +231,8 @@ int run_render_or_stats(const Args& args, bool write_png) {
         const Camera cam = make_camera(scene.bounds());
         image = render([&](const Ray& r, Hit& h) { return scene.intersect(r, h); }, cam, ro,
                        scene.bounds(), rs);
-        json = stats_json(a, build_seconds, rs, nullptr, scene.triangle_count(), scene.memory_bytes());
+        json = stats_json(a, build_seconds, rs, nullptr, scene.triangle_count(), scene.memory_bytes(),
+                          baseline_rss);
     } else {
         // The camera is framed on the base mesh's bounds, then handed to the surface.
         const Camera cam = make_camera(mesh_bounds(mesh));
@@ -243,7 +251,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
         const SurfaceStats ss = surface.stats();
         json = stats_json(a, build_seconds, rs, &ss,
                           surface.uniform_triangle_count(ss.trace.deepest_level),
-                          ss.cache_peak_bytes);
+                          ss.cache_peak_bytes, baseline_rss);
     }
     if (write_png) {
         write_image(a.output, image);

@@ -84,5 +84,7 @@ Ray spawn_shadow_ray(const Ray& ray, const Hit& hit, const Vec3& light);
 
 /// Peak resident set size of this process (VmHWM), in bytes; 0 if unknown.
 std::size_t peak_rss_bytes();
+/// Current resident set size (VmRSS), in bytes; 0 if unknown.
+std::size_t current_rss_bytes();
 
 }  // namespace subdivtrace
