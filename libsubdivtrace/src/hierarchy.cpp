@@ -195,12 +195,6 @@ NodeRecord Hierarchy::node(const NodeId& id) const {
     return rec;
 }
 
-Vec3 Hierarchy::grid_position(std::uint32_t face, int level, std::uint32_t i,
-                              std::uint32_t j) const {
-    detail::EvalScratch scratch(10);
-    return impl_->vertices.position(impl_->topo.canonical(face, level, i, j), level, scratch);
-}
-
 HierarchyCounters Hierarchy::counters() const {
     const detail::CacheCounters v = impl_->vertices.counters();
     const detail::CacheCounters n = impl_->nodes.counters();

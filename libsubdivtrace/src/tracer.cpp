@@ -129,7 +129,6 @@ struct Traversal {
     const SurfaceImpl& s;
     Vec3 origin;
     Vec3 dir;
-    double dir_length;
     double origin_distance;  ///< D: camera to origin along the light path
     double t_min;
     double t_max;  ///< shrinks to the nearest hit in nearest mode
@@ -212,7 +211,7 @@ struct Traversal {
         Shell grown = rec.shell;
         for (int c = 0; c < 3; ++c) grown.grow_both(drawn[c].position);
         const Vec3 ap = glm::abs(h.point);
-        h.error_bound = detail_gamma_point() * (ap.x + ap.y + ap.z) +
+        h.error_bound = gamma_bound(7) * (ap.x + ap.y + ap.z) +
                         std::max({0.0, grown.thickness(), parent_thickness});
         if (collect_all) {
             all_hits->push_back(h);
@@ -222,8 +221,6 @@ struct Traversal {
             t_max = h.t;
         }
     }
-
-    static double detail_gamma_point() { return gamma_bound(7); }
 
     /// The record of a node, by reference into this thread's front cache:
     /// valid until the next call (which may reuse the slot).
@@ -341,7 +338,6 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
     Traversal tr{*this,
                  ray.origin,
                  ray.direction,
-                 dir_length,
                  ray.origin_distance >= 0.0 ? ray.origin_distance
                                             : glm::length(ray.origin - options.view.camera),
                  ray.t_min,
@@ -391,7 +387,6 @@ void SurfaceImpl::collect_drawn(const Vec3& origin, double origin_distance,
     Traversal tr{*this,
                  origin,
                  Vec3(0.0, 0.0, 1.0),
-                 1.0,
                  origin_distance,
                  0.0,
                  1e300,

@@ -20,6 +20,10 @@ struct ContainmentResult {
     std::size_t nodes = 0;
     std::size_t violations = 0;
     double worst_excess = 0.0;  ///< relative to the ancestor's extent
+    /// Tightness over the nodes two or more levels above max_level: mean of
+    /// (shell box diagonal / diagonal of the box of all descendant corners).
+    double diagonal_ratio_sum = 0.0;
+    std::size_t ratio_nodes = 0;
 };
 
 /// Walks every node to max_level and checks its corners (and drawn corners)
@@ -28,9 +32,15 @@ ContainmentResult check_containment(const Mesh& mesh, SchemeKind scheme, int max
     const Hierarchy h(mesh, scheme, max_level, std::size_t{512} << 20);
     ContainmentResult r;
     std::vector<Shell> ancestors;
-    std::function<void(const NodeId&)> walk = [&](const NodeId& id) {
+    // Returns the box of the node's corners and all its descendants' corners.
+    std::function<Shell(const NodeId&)> walk = [&](const NodeId& id) {
         const NodeRecord rec = h.node(id);
         ++r.nodes;
+        Shell reached;
+        for (int c = 0; c < 3; ++c) {
+            reached.grow(rec.position[c]);
+            reached.grow(rec.draw_position[c]);
+        }
         for (const Shell& s : ancestors) {
             const double extent = glm::length(s.hi - s.lo);
             for (int c = 0; c < 3; ++c) {
@@ -45,10 +55,20 @@ ContainmentResult check_containment(const Mesh& mesh, SchemeKind scheme, int max
                 }
             }
         }
-        if (id.level >= max_level) return;
+        if (id.level >= max_level) return reached;
         ancestors.push_back(rec.shell);
-        for (int c = 0; c < 4; ++c) walk(child_of(id, c));
+        for (int c = 0; c < 4; ++c) {
+            const Shell below = walk(child_of(id, c));
+            reached.grow(below.lo);
+            reached.grow(below.hi);
+        }
         ancestors.pop_back();
+        const double reached_diagonal = glm::length(reached.hi - reached.lo);
+        if (id.level + 2 <= max_level && reached_diagonal > 0.0) {
+            r.diagonal_ratio_sum += glm::length(rec.shell.hi - rec.shell.lo) / reached_diagonal;
+            ++r.ratio_nodes;
+        }
+        return reached;
     };
     for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) walk(Hierarchy::root(f));
     return r;
@@ -77,9 +97,14 @@ TEST_CASE("shells contain every descendant up to max_level", "[shells][slow]") {
     for (const Case& c : corpus) {
         for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
             const ContainmentResult r = check_containment(c.mesh, scheme, c.levels);
+            const double tightness = r.diagonal_ratio_sum / std::max<std::size_t>(1, r.ratio_nodes);
             INFO(c.name << " " << scheme_name(scheme) << ": " << r.nodes << " nodes, worst excess "
                         << r.worst_excess);
             CHECK(r.violations == 0);
+            // Containment makes every shell at least as large as what it holds.
+            CHECK(tightness >= 1.0);
+            WARN(c.name << " " << scheme_name(scheme) << ": shell / descendants diagonal "
+                        << tightness << " (mean over " << r.ratio_nodes << " nodes)");
         }
     }
 }

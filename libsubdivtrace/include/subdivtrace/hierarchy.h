@@ -90,9 +90,6 @@ public:
     /// bit-identically).
     NodeRecord node(const NodeId& id) const;
 
-    /// Level-`level` position of grid point (i, j) of base triangle `face`.
-    Vec3 grid_position(std::uint32_t face, int level, std::uint32_t i, std::uint32_t j) const;
-
     HierarchyCounters counters() const;
 
 private:
