@@ -96,6 +96,18 @@ Vec3 loop_vertex_point(const VertexRing& ring) {
     return sum * (inv_n * alpha) + (1.0 - alpha) * ring.center;
 }
 
+Vec3 loop_limit_point(const VertexRing& ring) {
+    const std::size_t n = ring.nbrs.size();
+    if (!ring.regular || n < 2) return ring.center;
+    if (!ring.closed) return (ring.nbrs.front() + ring.center * 4.0 + ring.nbrs.back()) / 6.0;
+    const double t = 3.0 + 2.0 * std::cos(2.0 * k_pi / static_cast<double>(n));
+    const double alpha = (40.0 - t * t) / 64.0;
+    const double chi = 8.0 * alpha / (static_cast<double>(n) * (8.0 * alpha + 3.0));
+    Vec3 sum(0.0);
+    for (const Vec3& q : ring.nbrs) sum += q;
+    return sum * chi + ring.center * (1.0 - static_cast<double>(n) * chi);
+}
+
 Vec3 normal_edge_point(const Vec3& a, const Vec3& b, const Vec3& na, const Vec3& nb) {
     // Midpoint of the cubic whose end tangents are the edge projected into each
     // endpoint's tangent plane (DESIGN.md section 3, our reconstruction of the

@@ -143,6 +143,18 @@ SubdividedMesh subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels
     return out;
 }
 
+void push_to_limit(SubdividedMesh& sub, SchemeKind scheme) {
+    if (scheme != SchemeKind::loop) return;
+    const LevelTopology topo(sub.positions, sub.triangles);
+    std::vector<Vec3> limit(sub.positions.size());
+    VertexRing ring;
+    for (std::uint32_t v = 0; v < sub.positions.size(); ++v) {
+        topo.fill_ring(v, sub.positions, ring);
+        limit[v] = loop_limit_point(ring);
+    }
+    sub.positions.swap(limit);
+}
+
 Mesh to_mesh(const SubdividedMesh& sub) {
     Mesh mesh;
     mesh.positions = sub.positions;

@@ -189,20 +189,11 @@ Vec3 VertexEvaluator::compute_normal(const VertexKey& v, int level, EvalScratch&
 }
 
 Vec3 VertexEvaluator::compute_draw_position(const VertexKey& v, EvalScratch& scratch) {
-    // Loop's limit point (the limit mask 1/(n + 3/(8 beta)), beta = alpha/n),
-    // from the ring at the vertex's birth level.
+    // Loop's limit point, from the ring at the vertex's birth level.
     VertexRing ring;
     OrderedRing<VertexKey> ordered;
     fill_ring(v, v.level, ring, ordered, scratch);
-    const std::size_t n = ring.nbrs.size();
-    if (!ring.regular || n < 2) return ring.center;
-    if (!ring.closed) return (ring.nbrs.front() + ring.center * 4.0 + ring.nbrs.back()) / 6.0;
-    const double t = 3.0 + 2.0 * std::cos(2.0 * 3.14159265358979323846 / static_cast<double>(n));
-    const double alpha = (40.0 - t * t) / 64.0;
-    const double chi = 8.0 * alpha / (static_cast<double>(n) * (8.0 * alpha + 3.0));
-    Vec3 sum(0.0);
-    for (const Vec3& q : ring.nbrs) sum += q;
-    return sum * chi + ring.center * (1.0 - static_cast<double>(n) * chi);
+    return loop_limit_point(ring);
 }
 
 }  // namespace subdivtrace::detail

@@ -24,6 +24,10 @@ MeshArgs parse_mesh_args(const Args& args, unsigned accepted, int default_levels
             out.mesh = arg;
             continue;
         }
+        if (arg == "--limit" && (accepted & k_arg_limit)) {
+            out.limit = true;
+            continue;
+        }
         // --opt=value or --opt value
         std::string value;
         bool has_value = false;
@@ -92,9 +96,11 @@ void print_warnings(const std::vector<std::string>& warnings) {
 }
 
 SubdividedMesh subdivide_or_explain(const Mesh& mesh, const std::string& path, SchemeKind scheme,
-                                    int levels) {
+                                    int levels, bool limit) {
     try {
-        return subdivide_uniform(mesh, scheme, levels);
+        SubdividedMesh sub = subdivide_uniform(mesh, scheme, levels);
+        if (limit) push_to_limit(sub, scheme);
+        return sub;
     } catch (const std::invalid_argument& e) {
         throw MeshError(path + ": " + e.what());
     } catch (const std::length_error&) {

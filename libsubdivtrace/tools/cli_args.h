@@ -1,6 +1,6 @@
 #pragma once
 // Shared option parsing of the mesh commands (info, subdivide, export-mesh2):
-// one positional MESH, -o/--output, --scheme, --levels, --name, --help.
+// one positional MESH, -o/--output, --scheme, --levels, --name, --limit, --help.
 
 #include <string>
 
@@ -16,6 +16,7 @@ enum ArgFlags : unsigned {
     k_arg_scheme = 2u,
     k_arg_levels = 4u,
     k_arg_name = 8u,
+    k_arg_limit = 16u,  ///< --limit (no value)
 };
 
 struct MeshArgs {
@@ -24,6 +25,7 @@ struct MeshArgs {
     std::string name;  ///< empty = derive from the mesh file's stem
     SchemeKind scheme = SchemeKind::normal;
     int levels = 0;
+    bool limit = false;  ///< push vertices to the limit surface (push_to_limit)
     bool help = false;
 };
 
@@ -39,7 +41,8 @@ void print_warnings(const std::vector<std::string>& warnings);
 
 /// Uniform subdivision for a command: failures (too many levels, out of
 /// memory) become a MeshError naming the mesh file.
+/// With `limit`, the result's vertices are pushed to the limit surface.
 SubdividedMesh subdivide_or_explain(const Mesh& mesh, const std::string& path, SchemeKind scheme,
-                                    int levels);
+                                    int levels, bool limit = false);
 
 }  // namespace subdivtrace::cli

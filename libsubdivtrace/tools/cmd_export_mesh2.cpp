@@ -15,6 +15,7 @@ namespace {
 
 const char* k_export_help =
     "usage: subdivtrace export-mesh2 MESH -o OUT.inc [--scheme S] [--levels K] [--name IDENT]\n"
+    "                           [--limit]\n"
     "\n"
     "Writes `#declare IDENT = mesh2 { ... }` for POV-Ray 3.7, after K levels of\n"
     "uniform subdivision (default 0: the mesh as read, with its own normals/UVs).\n"
@@ -22,7 +23,8 @@ const char* k_export_help =
     "  -o, --output OUT   output include file\n"
     "  --scheme S         normal (default), loop or butterfly\n"
     "  --levels K         subdivision levels, 0..10 (0)\n"
-    "  --name IDENT       identifier (default: the file stem, e.g. Bunny_lowpoly)\n";
+    "  --name IDENT       identifier (default: the file stem, e.g. Bunny_lowpoly)\n"
+    "  --limit            move vertices to the limit surface (Loop; what the tracer draws)\n";
 
 std::string file_stem(const std::string& path) {
     const std::size_t slash = path.find_last_of("/\\");
@@ -36,7 +38,8 @@ std::string file_stem(const std::string& path) {
 
 int run_export_mesh2(const Args& args) {
     const MeshArgs a =
-        parse_mesh_args(args, k_arg_output | k_arg_scheme | k_arg_levels | k_arg_name, 0, false);
+        parse_mesh_args(args, k_arg_output | k_arg_scheme | k_arg_levels | k_arg_name | k_arg_limit, 0,
+                        false);
     if (a.help) {
         std::fputs(k_export_help, stdout);
         return 0;
@@ -48,8 +51,8 @@ int run_export_mesh2(const Args& args) {
     const std::size_t base = mesh.triangles.size();
 
     const auto start = std::chrono::steady_clock::now();
-    if (a.levels > 0) {
-        mesh = to_mesh(subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels));
+    if (a.levels > 0 || a.limit) {
+        mesh = to_mesh(subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels, a.limit));
     }
     const std::string ident = a.name.empty() ? pov_identifier(file_stem(a.mesh)) : a.name;
     write_mesh2(a.output, mesh, ident);

@@ -13,19 +13,20 @@ namespace subdivtrace::cli {
 namespace {
 
 const char* k_subdivide_help =
-    "usage: subdivtrace subdivide MESH -o OUT [--scheme S] [--levels K]\n"
+    "usage: subdivtrace subdivide MESH -o OUT [--scheme S] [--levels K] [--limit]\n"
     "\n"
     "Subdivides every triangle of MESH 1-to-4, K times (default 1, at most 10),\n"
     "and writes OUT (.obj .off .ply .stl, by extension).\n"
     "\n"
     "  -o, --output OUT   output mesh file\n"
     "  --scheme S         normal (default, the paper's), loop or butterfly\n"
-    "  --levels K         subdivision levels, 0..10 (1)\n";
+    "  --levels K         subdivision levels, 0..10 (1)\n"
+    "  --limit            move vertices to the limit surface (Loop; what the tracer draws)\n";
 
 }  // namespace
 
 int run_subdivide(const Args& args) {
-    const MeshArgs a = parse_mesh_args(args, k_arg_output | k_arg_scheme | k_arg_levels, 1, false);
+    const MeshArgs a = parse_mesh_args(args, k_arg_output | k_arg_scheme | k_arg_levels | k_arg_limit, 1, false);
     if (a.help) {
         std::fputs(k_subdivide_help, stdout);
         return 0;
@@ -36,7 +37,7 @@ int run_subdivide(const Args& args) {
     print_warnings(warnings);
 
     const auto start = std::chrono::steady_clock::now();
-    const Mesh result = to_mesh(subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels));
+    const Mesh result = to_mesh(subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels, a.limit));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     write_mesh(a.output, result);

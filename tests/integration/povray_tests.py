@@ -395,19 +395,20 @@ def bad_case_test(ctx, name):
         raise Failure("message %r lacks %r" % (m.group(2), text))
 
 
-def uniform_level_images(ctx, scheme, level):
+def uniform_level_images(ctx, scheme, level, limit=False):
     """Renders native mesh2 of the uniform level-K mesh (exported by the CLI,
-    with the level's normals) and subdivision_mesh with max_level K and a tiny
-    tolerance (every ray refines to level K). Returns both images."""
+    with the level's normals; with `limit`, its vertices pushed to the limit
+    surface) and subdivision_mesh with max_level K and a tiny tolerance (every
+    ray refines to level K). Returns both images."""
     if not (ctx.cli and os.access(ctx.cli, os.X_OK)):
         raise Skip("subdivtrace CLI not built: %s" % ctx.cli)
     verts, faces, normals, uvs = icosahedron()
     obj = ctx.path("ico.obj")
     write_obj(obj, verts, faces)
-    inc = ctx.path("ico_%s_l%d.inc" % (scheme, level))
+    inc = ctx.path("ico_%s_l%d%s.inc" % (scheme, level, "_limit" if limit else ""))
     ident = "Ico_%s_L%d" % (scheme.capitalize(), level)
     cmd = [ctx.cli, "export-mesh2", obj, "-o", inc, "--scheme", scheme, "--levels", str(level),
-           "--name", ident]
+           "--name", ident] + (["--limit"] if limit else [])
     proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=120)
     if proc.returncode != 0:
         raise Failure("%s failed (%d):\n%s" % (" ".join(cmd), proc.returncode,
@@ -417,8 +418,9 @@ def uniform_level_images(ctx, scheme, level):
     native = SCENE_HEADER + '#include "%s"\nobject { %s %s %s }\n' % (os.path.basename(inc), ident, mat, xform)
     subdiv = SCENE_HEADER + ('subdivision_mesh { file "ico.obj" scheme %s max_level %d tolerance 1e-6 %s %s }\n'
                              % (scheme, level, mat, xform))
-    _, _, a, _ = ctx.render("native_%s_l%d" % (scheme, level), native)
-    _, err, b, _ = ctx.render("subdiv_%s_l%d" % (scheme, level), subdiv)
+    tag = "%s_l%d%s" % (scheme, level, "_limit" if limit else "")
+    _, _, a, _ = ctx.render("native_" + tag, native)
+    _, err, b, _ = ctx.render("subdiv_" + tag, subdiv)
     m = re.search(r"deepest level reached:\s+(-?\d+)", err)
     if m and int(m.group(1)) != level:
         raise Failure("deepest level reached is %s, expected %d" % (m.group(1), level))
@@ -428,14 +430,9 @@ def uniform_level_images(ctx, scheme, level):
 def uniform_level_test(ctx, scheme, level=2):
     """max_level K with a tiny tolerance is the picture of the uniform level-K
     mesh as native mesh2 (interpolating schemes: the drawn corners are the
-    level-K vertices)."""
-    if scheme == "loop":
-        # Not an equality for Loop: the tracer draws a leaf's corners at their
-        # Loop limit points (hierarchy.h, draw_position), export-mesh2 writes
-        # the level-K control points, which lie off the limit surface. Checked
-        # instead by loop_converges_to_uniform.
-        raise Skip("Loop leaves are drawn at limit points; export-mesh2 has no limit-position output")
-    a, b = uniform_level_images(ctx, scheme, level)
+    level-K vertices; Loop: the tracer draws a leaf's corners at their limit
+    points, so the export is pushed to the limit with --limit)."""
+    a, b = uniform_level_images(ctx, scheme, level, limit=(scheme == "loop"))
     assert_close("max_level %d (%s) vs uniform mesh2" % (level, scheme), a, b, SAME_FRACTION, SAME_MEAN)
 
 

@@ -125,3 +125,27 @@ TEST_CASE("hierarchy nodes do not depend on cache budget or threads", "[hierarch
         CHECK(tiny.counters().evictions > 0);
     }
 }
+
+TEST_CASE("Loop leaves are drawn at the limit points of uniform subdivision", "[hierarchy]") {
+    // The tracer draws a Loop vertex at its limit point computed from its
+    // birth-level ring; push_to_limit computes it from the final level's ring.
+    // The limit mask makes both the same point.
+    for (const Mesh& mesh : {testmesh::icosahedron(), testmesh::irregular_closed(5)}) {
+        const int level = 2;
+        SubdividedMesh uniform = subdivide_uniform(mesh, SchemeKind::loop, level);
+        push_to_limit(uniform, SchemeKind::loop);
+        const Hierarchy hierarchy(mesh, SchemeKind::loop, level, std::size_t{64} << 20);
+        const double scale = diagonal(mesh);
+        double worst = 0.0;
+        for (std::size_t t = 0; t < uniform.triangles.size(); ++t) {
+            const NodeRecord rec = hierarchy.node(node_of_uniform_triangle(t, level));
+            for (std::uint32_t v : uniform.triangles[t]) {
+                double best = 1e300;
+                for (int c = 0; c < 3; ++c)
+                    best = std::min(best, glm::length(rec.draw_position[c] - uniform.positions[v]));
+                worst = std::max(worst, best / scale);
+            }
+        }
+        CHECK(worst <= 1e-12);
+    }
+}

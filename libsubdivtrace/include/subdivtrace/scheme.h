@@ -44,6 +44,11 @@ struct VertexRing {
     bool regular = true;
 };
 
+/// Loop's limit point of a vertex from its ring at any level (the limit mask
+/// chi = 8a / (n (8a + 3)) per neighbour; boundary (q_first + 4p + q_last)/6;
+/// corners stay). The same point whichever level's ring it is computed from.
+Vec3 loop_limit_point(const VertexRing& ring);
+
 /// Loop's vertex rule: interior (1-a)p + a/n sum(q), a = (40 - (3 + 2cos(2pi/n))^2)/64;
 /// boundary (q_first + 6p + q_last)/8; corners (irregular) stay.
 Vec3 loop_vertex_point(const VertexRing& ring);

@@ -43,6 +43,12 @@ SubdividedMesh subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels
 
 constexpr int k_max_uniform_levels = 10;
 
+/// Moves every vertex to its limit point (Loop: loop_limit_point of its
+/// final-level ring; interpolating schemes: unchanged, their vertices lie on
+/// the limit surface). Normals are left as they are. This is what the
+/// adaptive tracer draws at a leaf of the same level.
+void push_to_limit(SubdividedMesh& sub, SchemeKind scheme);
+
 /// Converts back to a plain Mesh (corner normals from vertex_normals).
 Mesh to_mesh(const SubdividedMesh& sub);
 
