@@ -37,12 +37,6 @@ bool Shell::contains(const Vec3& p, double slack) const {
     return true;
 }
 
-double Shell::box_volume() const {
-    if (empty()) return 0.0;
-    const Vec3 e = hi - lo;
-    return e.x * e.y * e.z;
-}
-
 RayBoxQuery make_ray_box_query(const Vec3& origin, const Vec3& dir, double t_min, double t_max) {
     RayBoxQuery q;
     q.origin = origin;

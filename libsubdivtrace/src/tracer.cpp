@@ -237,6 +237,19 @@ struct Traversal {
         return slot.rec;
     }
 
+    /// Starts the descent at a base triangle: its corners and edges are its own.
+    void visit_root(std::uint32_t face) {
+        const NodeId id = Hierarchy::root(face);
+        const NodeRecord& rec = s.roots[face];
+        DrawnCorner drawn[3];
+        for (int c = 0; c < 3; ++c)
+            drawn[c] = {rec.draw_position[c], rec.normal[c], grid_domain(id, c), true};
+        double t_entry;
+        if (!shell_entry(rec.shell, drawn, t_entry)) return;
+        const bool exists[3] = {true, true, true};
+        visit(id, rec, drawn, exists, 0.0);
+    }
+
     void visit(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn,
                const bool* edge_exists, double parent_thickness) {
         ++counters.nodes_visited;
@@ -350,17 +363,7 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
                  hits,
                  TraceCounters{}};
     tr.counters.rays = 1;
-    top.traverse(tr.query, tr.t_max, [&](std::uint32_t face) {
-        const NodeId id = Hierarchy::root(face);
-        const NodeRecord& rec = roots[face];
-        DrawnCorner drawn[3];
-        for (int c = 0; c < 3; ++c)
-            drawn[c] = {rec.draw_position[c], rec.normal[c], grid_domain(id, c), true};
-        double t_entry;
-        if (!tr.shell_entry(rec.shell, drawn, t_entry)) return;
-        const bool exists[3] = {true, true, true};
-        tr.visit(id, rec, drawn, exists, 0.0);
-    });
+    top.traverse(tr.query, tr.t_max, [&](std::uint32_t face) { tr.visit_root(face); });
     if (found) *found = tr.found;
     if (nearest && tr.found) *nearest = tr.best;
     if (tr.found) level_histogram[tr.best.level].fetch_add(1, std::memory_order_relaxed);
@@ -398,14 +401,7 @@ void SurfaceImpl::collect_drawn(const Vec3& origin, double origin_distance,
                  nullptr,
                  TraceCounters{},
                  &out};
-    for (std::uint32_t face = 0; face < roots.size(); ++face) {
-        const NodeId id = Hierarchy::root(face);
-        DrawnCorner drawn[3];
-        for (int c = 0; c < 3; ++c)
-            drawn[c] = {roots[face].draw_position[c], roots[face].normal[c], grid_domain(id, c), true};
-        const bool exists[3] = {true, true, true};
-        tr.visit(id, roots[face], drawn, exists, 0.0);
-    }
+    for (std::uint32_t face = 0; face < roots.size(); ++face) tr.visit_root(face);
 }
 
 AdaptiveSurface::AdaptiveSurface(Mesh mesh, const SurfaceOptions& options) {

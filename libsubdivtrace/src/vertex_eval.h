@@ -5,7 +5,6 @@
 // shared budgeted cache plus a per-call scratch table, so evaluation is
 // bounded however small the cache is, and deterministic however full it is.
 
-#include <unordered_map>
 #include <vector>
 
 #include "grid.h"

@@ -41,8 +41,7 @@ struct Shell {
     /// Pads box and slab by `margin` in every direction.
     void pad(double margin);
     bool contains(const Vec3& p, double slack = 0.0) const;
-    double box_volume() const;
-    /// Volume of box ∩ slab, estimated (exact for axis-aligned slabs).
+    /// Width of the slab along its axis.
     double thickness() const { return slab_max - slab_min; }
 };
 
