@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <array>
-#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -55,13 +54,20 @@ void check_options(const SurfaceOptions& o) {
         throw std::invalid_argument("max_level must be in 0.." + std::to_string(k_max_level_cap) +
                                     ", got " + std::to_string(o.max_level));
     if (o.cache_mb < 1) throw std::invalid_argument("cache_mb must be at least 1");
-    const View& v = o.view;
+    AdaptiveSurface::check_view(o.view);
+}
+
+}  // namespace
+
+void AdaptiveSurface::check_view(const View& v) {
     if (v.orthographic ? !(v.pixel_size > 0.0 && std::isfinite(v.pixel_size))
                        : !(v.pixel_angle > 0.0 && std::isfinite(v.pixel_angle)))
         throw std::invalid_argument("the view's pixel size/angle must be positive and finite");
     if (!std::isfinite(v.camera.x) || !std::isfinite(v.camera.y) || !std::isfinite(v.camera.z))
         throw std::invalid_argument("the camera position must be finite");
 }
+
+namespace {
 
 /// Every surface gets an id never reused, so per-thread caches cannot
 /// confuse a destroyed surface with a new one at the same address.
@@ -118,8 +124,22 @@ public:
     double scale = 1.0;
     const std::uint64_t id = g_next_surface_id.fetch_add(1);
     mutable std::vector<std::atomic<std::uint64_t>> level_histogram;
-    mutable std::mutex totals_mutex;
-    mutable TraceCounters totals;
+    /// Running totals, relaxed atomics: no ray waits on another for them.
+    struct Totals {
+        std::atomic<std::uint64_t> rays{0}, nodes_visited{0}, leaves_tested{0};
+        std::atomic<int> deepest_level{0};
+        void add(const TraceCounters& c) {
+            rays.fetch_add(c.rays, std::memory_order_relaxed);
+            nodes_visited.fetch_add(c.nodes_visited, std::memory_order_relaxed);
+            leaves_tested.fetch_add(c.leaves_tested, std::memory_order_relaxed);
+            int seen = deepest_level.load(std::memory_order_relaxed);
+            while (c.deepest_level > seen &&
+                   !deepest_level.compare_exchange_weak(seen, c.deepest_level,
+                                                        std::memory_order_relaxed)) {
+            }
+        }
+    };
+    mutable Totals totals;
 };
 
 namespace {
@@ -127,6 +147,7 @@ namespace {
 /// One ray's walk through the hierarchy.
 struct Traversal {
     const SurfaceImpl& s;
+    const View& view;
     Vec3 origin;
     Vec3 dir;
     double origin_distance;  ///< D: camera to origin along the light path
@@ -146,7 +167,6 @@ struct Traversal {
     /// footprint where the ray would meet it, width(d) = angle * (D + d) * tol.
     bool edge_refines(const Vec3& a, const Vec3& b) const {
         const double length = glm::length(b - a);
-        const View& view = s.options.view;
         double width;
         if (view.orthographic) {
             width = view.pixel_size * s.options.tolerance;
@@ -348,11 +368,13 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
         if (found) *found = false;
         return;
     }
+    const View& view = ray.view ? *ray.view : options.view;
     Traversal tr{*this,
+                 view,
                  ray.origin,
                  ray.direction,
                  ray.origin_distance >= 0.0 ? ray.origin_distance
-                                            : glm::length(ray.origin - options.view.camera),
+                                            : glm::length(ray.origin - view.camera),
                  ray.t_min,
                  ray.t_max,
                  all,
@@ -381,13 +403,13 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
         for (const Hit& h : *hits) level_histogram[h.level].fetch_add(1, std::memory_order_relaxed);
     }
     if (counters) counters->add(tr.counters);
-    std::lock_guard<std::mutex> lock(totals_mutex);
     totals.add(tr.counters);
 }
 
 void SurfaceImpl::collect_drawn(const Vec3& origin, double origin_distance,
                                 std::vector<std::array<Vec3, 3>>& out) const {
     Traversal tr{*this,
+                 options.view,
                  origin,
                  Vec3(0.0, 0.0, 1.0),
                  origin_distance,
@@ -424,9 +446,10 @@ void AdaptiveSurface::intersect_all(const Ray& ray, std::vector<Hit>& hits,
     impl_->trace(ray, true, nullptr, nullptr, &hits, counters);
 }
 
-bool AdaptiveSurface::inside(const Vec3& point) const {
+bool AdaptiveSurface::inside(const Vec3& point, const View* view) const {
     // A fixed direction no axis-aligned or symmetric mesh lines up with.
     Ray ray;
+    ray.view = view;
     ray.origin = point;
     ray.direction = glm::normalize(Vec3(0.4812, 0.6029, 0.6366));
     std::vector<Hit> hits;
@@ -453,10 +476,10 @@ void AdaptiveSurface::set_view(const View& view) {
 
 SurfaceStats AdaptiveSurface::stats() const {
     SurfaceStats s;
-    {
-        std::lock_guard<std::mutex> lock(impl_->totals_mutex);
-        s.trace = impl_->totals;
-    }
+    s.trace.rays = impl_->totals.rays.load();
+    s.trace.nodes_visited = impl_->totals.nodes_visited.load();
+    s.trace.leaves_tested = impl_->totals.leaves_tested.load();
+    s.trace.deepest_level = impl_->totals.deepest_level.load();
     const HierarchyCounters h = impl_->hierarchy.counters();
     s.trace.cache_hits = h.node_hits;
     s.trace.cache_misses = h.node_misses;

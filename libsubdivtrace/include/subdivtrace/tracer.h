@@ -65,6 +65,10 @@ struct Ray {
     /// Distance the light travelled from the camera to origin (D in DESIGN
     /// section 5). Negative = use |origin - view.camera|.
     double origin_distance = -1.0;
+    /// The view whose pixel footprint this ray follows. Each instance of a
+    /// surface (a copy at its own scale, an orthographic camera) passes its
+    /// own; nullptr = SurfaceOptions::view. Must outlive the call.
+    const View* view = nullptr;
 };
 
 struct Hit {
@@ -124,7 +128,7 @@ public:
     /// Inside test for closed meshes (parity of crossings along a fixed ray
     /// through the surface seen at the view's resolution). For open meshes the
     /// answer is the same parity rule, which is only meaningful near closed parts.
-    bool inside(const Vec3& point) const;
+    bool inside(const Vec3& point, const View* view = nullptr) const;
 
     /// Diagnostics: every leaf triangle a ray from `origin` would draw (no
     /// shell culling), as drawn, including degenerate ones.
@@ -137,9 +141,12 @@ public:
     bool is_closed() const;
 
     const SurfaceOptions& options() const;
-    /// Replaces the view (e.g. after the object was transformed). Not thread-safe
+    /// Replaces the default view (rays without their own). Not thread-safe
     /// against concurrent intersect calls; call before rendering starts.
     void set_view(const View& view);
+    /// Throws std::invalid_argument if `view` is not usable (non-finite,
+    /// non-positive pixel size or angle).
+    static void check_view(const View& view);
 
     SurfaceStats stats() const;
     /// Number of triangles of uniform subdivision at `level`.
