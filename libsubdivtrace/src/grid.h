@@ -5,6 +5,7 @@
 // on a base edge or corner is shared with the neighbouring triangles, so each
 // point has one canonical VertexKey, the same whichever triangle names it.
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -72,6 +73,12 @@ public:
 
     const std::vector<std::uint32_t>& faces_of_vertex(std::uint32_t v) const {
         return vertex_faces_[v];
+    }
+
+    /// Number of base triangles on the edge between base vertices u and w.
+    std::size_t edge_face_count(std::uint32_t u, std::uint32_t w) const {
+        const auto* faces = faces_of_edge(std::min(u, w), std::max(u, w));
+        return faces ? faces->size() : 0;
     }
 
     /// True if every base edge has exactly two triangles.

@@ -1,8 +1,10 @@
 #pragma once
 /// \file hierarchy.h
 /// The lazy subdivision hierarchy (paper eqs. 4, 7-8): any triangle of any
-/// uniform level, built on demand from the few coarser vertices it depends on,
-/// cached under a byte budget, shared by threads.
+/// uniform level, built on demand and cached under a byte budget, shared by
+/// threads. Nodes are built in tiles: when a node first refines, its
+/// descendants four levels down are computed at once from a small patch of
+/// the mesh with array kernels (docs/tracer.md).
 ///
 /// Adaptive == uniform by construction of the addressing: a node is a triangle
 /// of the uniform level-L mesh, named by its base triangle and grid position,
@@ -59,12 +61,10 @@ struct NodeRecord {
 };
 
 struct HierarchyCounters {
-    std::uint64_t nodes_built = 0;
-    std::uint64_t node_hits = 0;
-    std::uint64_t node_misses = 0;
-    std::uint64_t vertex_hits = 0;
-    std::uint64_t vertex_misses = 0;
-    std::uint64_t evictions = 0;
+    std::uint64_t nodes_built = 0;  ///< node records computed (tiles x their nodes)
+    std::uint64_t node_hits = 0;    ///< tile cache hits
+    std::uint64_t node_misses = 0;  ///< tile cache misses (tiles built)
+    std::uint64_t evictions = 0;  ///< tiles evicted
     std::size_t bytes = 0;
     std::size_t peak_bytes = 0;
 };

@@ -1,0 +1,346 @@
+#include "patch.h"
+
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
+#include "ring_order.h"
+
+namespace subdivtrace::detail {
+
+namespace {
+
+/// How many triangles of a uniform level meet at the vertex `key` (its whole
+/// ring): one per base face at a base vertex, three per face along a base
+/// edge, six inside a face.
+std::size_t true_incident_count(const BaseTopology& topo, const VertexKey& key) {
+    switch (key.kind) {
+        case VertexKey::base_vertex: return topo.faces_of_vertex(key.a).size();
+        case VertexKey::edge_point: return 3 * topo.edge_face_count(key.a, key.b);
+        default: return 6;
+    }
+}
+
+}  // namespace
+
+void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
+    const std::size_t n = verts.size();
+    // Incident (triangle, corner) slots per vertex, CSR.
+    std::vector<std::uint32_t> offsets(n + 1, 0);
+    for (const PatchTriangle& t : tris)
+        for (std::uint32_t v : t.v) ++offsets[v + 1];
+    for (std::size_t v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
+    std::vector<std::uint32_t> slots(offsets.back());
+    {
+        std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+        for (std::uint32_t t = 0; t < tris.size(); ++t)
+            for (std::uint32_t c = 0; c < 3; ++c) slots[fill[tris[t].v[c]]++] = 3 * t + c;
+    }
+
+    rings.assign(n, Ring{});
+    ring_nbrs.clear();
+    std::vector<FanPair<std::uint32_t>> pairs;
+    OrderedRing<std::uint32_t> ordered;
+    const auto eq = [](std::uint32_t x, std::uint32_t y) { return x == y; };
+    const auto pair_less = [&](const FanPair<std::uint32_t>& x, const FanPair<std::uint32_t>& y) {
+        if (x.from != y.from) return key_less(verts[x.from].key, verts[y.from].key);
+        return key_less(verts[x.to].key, verts[y.to].key);
+    };
+    VertexRing ring;
+    for (std::uint32_t v = 0; v < n; ++v) {
+        PatchVertex& pv = verts[v];
+        const std::uint32_t count = offsets[v + 1] - offsets[v];
+        pv.has_ring = pv.has_position && count == true_incident_count(topo, pv.key);
+        pv.has_normal = false;
+        if (!pv.has_ring) continue;
+        // The canonical order: pairs sorted by key, so every patch that holds
+        // this whole ring sums and walks it in the same order.
+        pairs.clear();
+        bool ring_positions = true;
+        for (std::uint32_t k = offsets[v]; k < offsets[v + 1]; ++k) {
+            const PatchTriangle& t = tris[slots[k] / 3];
+            const std::uint32_t c = slots[k] % 3;
+            pairs.push_back({t.v[(c + 1) % 3], t.v[(c + 2) % 3]});
+            ring_positions = ring_positions && verts[pairs.back().from].has_position &&
+                             verts[pairs.back().to].has_position;
+        }
+        if (!ring_positions) {
+            pv.has_ring = false;
+            continue;
+        }
+        std::sort(pairs.begin(), pairs.end(), pair_less);
+        order_ring(pairs, ordered, eq);
+        Ring& r = rings[v];
+        r.offset = static_cast<std::uint32_t>(ring_nbrs.size());
+        r.count = static_cast<std::uint32_t>(ordered.nbrs.size());
+        r.closed = ordered.closed;
+        r.regular = ordered.regular;
+        ring_nbrs.insert(ring_nbrs.end(), ordered.nbrs.begin(), ordered.nbrs.end());
+
+        Vec3 sum(0.0);
+        for (const auto& pr : pairs)
+            sum += angle_weighted_normal(pv.position, verts[pr.from].position, verts[pr.to].position);
+        pv.normal = finish_normal(sum);
+        pv.has_normal = true;
+        if (scheme == SchemeKind::loop && pv.key.level == level) {
+            // Loop draws a vertex at its limit point, from its birth-level ring.
+            fill_vertex_ring(v, ring);
+            pv.draw = loop_limit_point(ring);
+            pv.has_draw = true;
+        }
+    }
+    if (scheme != SchemeKind::loop) {
+        for (PatchVertex& pv : verts) {
+            pv.draw = pv.position;
+            pv.has_draw = pv.has_position;
+        }
+    }
+}
+
+void Patch::fill_vertex_ring(std::uint32_t v, VertexRing& ring) const {
+    const Ring& r = rings[v];
+    ring.center = verts[v].position;
+    ring.closed = r.closed;
+    ring.regular = r.regular;
+    ring.nbrs.clear();
+    for (std::uint32_t k = 0; k < r.count; ++k) ring.nbrs.push_back(verts[ring_nbrs[r.offset + k]].position);
+}
+
+void Patch::build_edges() {
+    struct Slot {
+        std::uint32_t lo, hi, slot;
+    };
+    std::vector<Slot> slots;
+    slots.reserve(3 * tris.size());
+    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+        for (std::uint32_t e = 0; e < 3; ++e) {
+            const std::uint32_t u = tris[t].v[e], w = tris[t].v[(e + 1) % 3];
+            slots.push_back({std::min(u, w), std::max(u, w), 3 * t + e});
+        }
+    }
+    std::sort(slots.begin(), slots.end(), [](const Slot& x, const Slot& y) {
+        return x.lo != y.lo ? x.lo < y.lo : (x.hi != y.hi ? x.hi < y.hi : x.slot < y.slot);
+    });
+    edges.clear();
+    tri_edges.assign(3 * tris.size(), 0);
+    for (std::size_t i = 0; i < slots.size();) {
+        std::size_t j = i;
+        while (j < slots.size() && slots[j].lo == slots[i].lo && slots[j].hi == slots[i].hi) ++j;
+        PatchEdge e;
+        const bool lo_first = key_less(verts[slots[i].lo].key, verts[slots[i].hi].key);
+        e.a = lo_first ? slots[i].lo : slots[i].hi;
+        e.b = lo_first ? slots[i].hi : slots[i].lo;
+        e.valid = verts[e.a].has_ring && verts[e.b].has_ring;
+        e.slot_count = static_cast<std::uint32_t>(j - i);
+        e.slot[0] = slots[i].slot;
+        e.slot[1] = j - i > 1 ? slots[i + 1].slot : slots[i].slot;
+        for (std::size_t k = i; k < j; ++k) tri_edges[slots[k].slot] = static_cast<std::uint32_t>(edges.size());
+        edges.push_back(e);
+        i = j;
+    }
+}
+
+Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
+    EdgeStencil s;
+    s.a = verts[e.a].position;
+    s.b = verts[e.b].position;
+    if (scheme == SchemeKind::normal) {
+        s.normal_a = verts[e.a].normal;
+        s.normal_b = verts[e.b].normal;
+        return subdivtrace::edge_point(scheme, s);
+    }
+    // As LevelTopology: interior when exactly two triangles share the edge;
+    // c is the third vertex of the one that runs a -> b, d of the other.
+    s.interior = e.slot_count == 2;
+    if (s.interior) {
+        std::uint32_t third[2];
+        bool forward[2];
+        for (int k = 0; k < 2; ++k) {
+            const PatchTriangle& t = tris[e.slot[k] / 3];
+            const std::uint32_t c = e.slot[k] % 3;
+            third[k] = t.v[(c + 2) % 3];
+            forward[k] = t.v[c] == e.a;
+        }
+        // Inconsistently oriented neighbours: order the two by key instead.
+        const bool first_is_c = forward[0] != forward[1]
+                                    ? forward[0]
+                                    : key_less(verts[third[0]].key, verts[third[1]].key);
+        s.c = verts[first_is_c ? third[0] : third[1]].position;
+        s.d = verts[first_is_c ? third[1] : third[0]].position;
+    }
+    const Ring& ra = rings[e.a];
+    VertexRing ring_a, ring_b;
+    if (scheme == SchemeKind::butterfly) {
+        fill_vertex_ring(e.a, ring_a);
+        fill_vertex_ring(e.b, ring_b);
+        const Ring& rb = rings[e.b];
+        for (std::uint32_t k = 0; k < ra.count; ++k)
+            if (ring_nbrs[ra.offset + k] == e.b) s.index_b_in_a = k;
+        for (std::uint32_t k = 0; k < rb.count; ++k)
+            if (ring_nbrs[rb.offset + k] == e.a) s.index_a_in_b = k;
+        s.ring_a = &ring_a;
+        s.ring_b = &ring_b;
+    }
+    return subdivtrace::edge_point(scheme, s);
+}
+
+Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme) {
+    build_edges();
+    Patch next;
+    next.level = level + 1;
+    const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
+    next.verts.resize(old_count + edges.size());
+
+    // Old vertices: interpolating schemes keep them; Loop moves them.
+    VertexRing ring;
+    for (std::uint32_t v = 0; v < old_count; ++v) {
+        const PatchVertex& pv = verts[v];
+        PatchVertex& nv = next.verts[v];
+        nv.key = pv.key;
+        nv.draw = pv.draw;
+        nv.has_draw = pv.has_draw;
+        if (scheme != SchemeKind::loop) {
+            nv.position = pv.position;
+            nv.has_position = pv.has_position;
+        } else if (pv.has_ring) {
+            fill_vertex_ring(v, ring);
+            nv.position = loop_vertex_point(ring);
+            nv.has_position = true;
+        }
+        verts[v].displacement = 0.0;
+        verts[v].has_displacement = pv.has_ring;
+    }
+
+    // Edge points, and the displacement each causes at its endpoints.
+    for (std::uint32_t e = 0; e < edges.size(); ++e) {
+        PatchEdge& edge = edges[e];
+        edge.point = old_count + e;
+        PatchVertex& nv = next.verts[edge.point];
+        if (!edge.valid) {
+            verts[edge.a].has_displacement = false;
+            verts[edge.b].has_displacement = false;
+            continue;
+        }
+        nv.position = edge_point(scheme, edge);
+        nv.has_position = true;
+        const double d = glm::length(nv.position - (verts[edge.a].position + verts[edge.b].position) * 0.5);
+        verts[edge.a].displacement = std::max(verts[edge.a].displacement, d);
+        verts[edge.b].displacement = std::max(verts[edge.b].displacement, d);
+    }
+
+    // Each triangle becomes four, in the hierarchy's child order.
+    next.tris.resize(4 * tris.size());
+    std::vector<bool> keyed(edges.size(), false);
+    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+        const PatchTriangle& pt = tris[t];
+        const auto grid = node_corner_grid(pt.id);
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t edge = tri_edges[3 * t + e];
+            if (keyed[edge]) continue;
+            keyed[edge] = true;
+            next.verts[old_count + edge].key =
+                topo.canonical(pt.id.face, level + 1, grid[e][0] + grid[(e + 1) % 3][0],
+                               grid[e][1] + grid[(e + 1) % 3][1]);
+        }
+        for (int c = 0; c < 4; ++c) {
+            PatchTriangle& child = next.tris[4 * t + c];
+            child.id = child_of(pt.id, c);
+            const auto& map = child_corners(pt.id.down, c);
+            for (int k = 0; k < 3; ++k) {
+                child.v[k] = map[k].is_edge ? old_count + tri_edges[3 * t + map[k].index]
+                                            : pt.v[map[k].index];
+            }
+        }
+    }
+    return next;
+}
+
+void Patch::trim_to(const std::vector<bool>& keep) {
+    std::vector<std::uint32_t> remap(verts.size(), UINT32_MAX);
+    std::vector<PatchTriangle> kept;
+    kept.reserve(tris.size());
+    for (std::size_t t = 0; t < tris.size(); ++t)
+        if (keep[t]) kept.push_back(tris[t]);
+    std::vector<PatchVertex> kept_verts;
+    kept_verts.reserve(verts.size());
+    for (PatchTriangle& t : kept) {
+        for (std::uint32_t& v : t.v) {
+            if (remap[v] == UINT32_MAX) {
+                remap[v] = static_cast<std::uint32_t>(kept_verts.size());
+                kept_verts.push_back(verts[v]);
+            }
+            v = remap[v];
+        }
+    }
+    tris.swap(kept);
+    verts.swap(kept_verts);
+    rings.clear();
+    ring_nbrs.clear();
+    edges.clear();
+    tri_edges.clear();
+}
+
+Patch base_patch(const BaseTopology& topo, std::uint32_t face) {
+    // Faces touching the face's corners or their neighbours (the trim rule
+    // at level 0), collected through the vertex-face lists.
+    const Mesh& mesh = topo.mesh();
+    std::vector<std::uint32_t> near_vertices(mesh.triangles[face].begin(), mesh.triangles[face].end());
+    for (std::uint32_t c : mesh.triangles[face])
+        for (std::uint32_t f : topo.faces_of_vertex(c))
+            for (std::uint32_t v : mesh.triangles[f]) near_vertices.push_back(v);
+    std::sort(near_vertices.begin(), near_vertices.end());
+    near_vertices.erase(std::unique(near_vertices.begin(), near_vertices.end()), near_vertices.end());
+    std::vector<std::uint32_t> faces;
+    for (std::uint32_t v : near_vertices)
+        for (std::uint32_t f : topo.faces_of_vertex(v)) faces.push_back(f);
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+
+    Patch p;
+    p.level = 0;
+    std::vector<std::uint32_t> local;  // sorted base vertex ids
+    for (std::uint32_t f : faces)
+        for (std::uint32_t v : mesh.triangles[f]) local.push_back(v);
+    std::sort(local.begin(), local.end());
+    local.erase(std::unique(local.begin(), local.end()), local.end());
+    p.verts.resize(local.size());
+    for (std::size_t k = 0; k < local.size(); ++k) {
+        PatchVertex& pv = p.verts[k];
+        pv.key.kind = VertexKey::base_vertex;
+        pv.key.a = local[k];
+        pv.position = mesh.positions[local[k]];
+        pv.has_position = true;
+    }
+    p.tris.reserve(faces.size());
+    for (std::uint32_t f : faces) {
+        PatchTriangle t;
+        t.id = Hierarchy::root(f);
+        for (int c = 0; c < 3; ++c) {
+            t.v[c] = static_cast<std::uint32_t>(
+                std::lower_bound(local.begin(), local.end(), mesh.triangles[f][c]) - local.begin());
+        }
+        p.tris.push_back(t);
+    }
+    return p;
+}
+
+Patch whole_base_patch(const BaseTopology& topo) {
+    const Mesh& mesh = topo.mesh();
+    Patch p;
+    p.level = 0;
+    p.verts.resize(mesh.positions.size());
+    for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) {
+        p.verts[v].key.kind = VertexKey::base_vertex;
+        p.verts[v].key.a = v;
+        p.verts[v].position = mesh.positions[v];
+        p.verts[v].has_position = true;
+    }
+    p.tris.resize(mesh.triangles.size());
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+        p.tris[f].id = Hierarchy::root(f);
+        p.tris[f].v = mesh.triangles[f];
+    }
+    return p;
+}
+
+}  // namespace subdivtrace::detail

@@ -1,0 +1,134 @@
+#pragma once
+// A patch: the few triangles of one uniform level that a tile's values depend
+// on (DESIGN.md section 5, "tiles"). A tile rooted at level L is computed by
+// taking the base triangles around its level-0 ancestor and subdividing them
+// level by level with array kernels, keeping at each level only the target
+// region (the ancestor, then the tile's own triangles) plus a border two
+// vertex rings wide: every stencil reads at most the 1-rings of an edge's
+// endpoints, so such a border stays self-sufficient under subdivision and the
+// region's values are those of global uniform subdivision.
+//
+// Both sides of every edge compute from bit-identical data: each value is
+// evaluated from canonically ordered inputs (rings sorted by VertexKey, edges
+// oriented from the smaller key), so every patch that holds a vertex with its
+// whole stencil gets the same bits, and values whose stencil is cut off by the
+// border are marked invalid and never read.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "grid.h"
+#include "subdivtrace/hierarchy.h"
+#include "subdivtrace/scheme.h"
+
+namespace subdivtrace::detail {
+
+struct PatchVertex {
+    VertexKey key;
+    Vec3 position{0.0};
+    Vec3 normal{0.0};  ///< Gouraud (angle-weighted) at the patch's level
+    Vec3 draw{0.0};    ///< where leaves draw it: Loop limit point, else position
+    bool has_position = false;
+    bool has_ring = false;  ///< every incident triangle of the level is in the patch
+    bool has_normal = false;
+    bool has_draw = false;
+    /// Largest distance of an edge point of the next level from its edge's
+    /// midpoint, over the edges at this vertex (interpolating schemes' shells).
+    double displacement = 0.0;
+    bool has_displacement = false;
+};
+
+struct PatchTriangle {
+    NodeId id;
+    std::array<std::uint32_t, 3> v;  ///< local vertex indices, in node_corner_grid order
+};
+
+/// An edge of the patch with its canonical orientation (key(a) < key(b)).
+struct PatchEdge {
+    std::uint32_t a = 0;
+    std::uint32_t b = 0;
+    std::uint32_t point = 0;  ///< index of its edge point in the next level's patch
+    bool valid = false;       ///< both endpoints have complete rings
+    std::uint32_t slot_count = 0;  ///< triangles on the edge
+    std::uint32_t slot[2] = {0, 0};  ///< the first two, as corner slots 3t + e
+};
+
+class Patch {
+public:
+    int level = 0;
+    std::vector<PatchVertex> verts;
+    std::vector<PatchTriangle> tris;
+
+    /// Ordered (canonical) ring of vertex v: valid after finish() for
+    /// vertices with has_ring.
+    struct Ring {
+        std::uint32_t offset = 0;
+        std::uint32_t count = 0;
+        bool closed = false;
+        bool regular = false;
+    };
+    std::vector<Ring> rings;
+    std::vector<std::uint32_t> ring_nbrs;
+
+    /// Edges and, per triangle corner slot 3t+e, the edge from corner e to e+1.
+    std::vector<PatchEdge> edges;
+    std::vector<std::uint32_t> tri_edges;
+
+    /// Rings, completeness, normals and (Loop) draw positions of vertices born
+    /// at this level.
+    void finish(const BaseTopology& topo, SchemeKind scheme);
+
+    /// Keeps the triangles with a vertex at most one ring from `in_region`
+    /// triangles' vertices (so their rings stay whole), drops the rest.
+    template <class Pred>
+    void trim(Pred in_region);
+
+    /// The edge list (tri_edges) and per-vertex displacement of the next level,
+    /// then the next level's patch (every triangle split 1-to-4). Values whose
+    /// stencil is incomplete are marked invalid.
+    Patch subdivide(const BaseTopology& topo, SchemeKind scheme);
+
+    void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
+
+private:
+    void build_edges();
+    Vec3 edge_point(SchemeKind scheme, const PatchEdge& e) const;
+    void trim_to(const std::vector<bool>& keep);
+};
+
+/// The level-0 patch around base triangle `face` (not finished).
+Patch base_patch(const BaseTopology& topo, std::uint32_t face);
+
+/// The whole base mesh as one patch (not finished).
+Patch whole_base_patch(const BaseTopology& topo);
+
+/// Orders VertexKeys (any fixed total order serves; this one is cheap).
+inline bool key_less(const VertexKey& x, const VertexKey& y) {
+    if (x.kind != y.kind) return x.kind < y.kind;
+    if (x.level != y.level) return x.level < y.level;
+    if (x.a != y.a) return x.a < y.a;
+    if (x.b != y.b) return x.b < y.b;
+    return x.c < y.c;
+}
+
+template <class Pred>
+void Patch::trim(Pred in_region) {
+    // Distance 0: vertices of region triangles; 1: their ring neighbours.
+    std::vector<std::uint8_t> dist(verts.size(), 2);
+    for (const PatchTriangle& t : tris)
+        if (in_region(t.id))
+            for (std::uint32_t v : t.v) dist[v] = 0;
+    for (const PatchTriangle& t : tris) {
+        if (dist[t.v[0]] == 0 || dist[t.v[1]] == 0 || dist[t.v[2]] == 0)
+            for (std::uint32_t v : t.v) dist[v] = std::min<std::uint8_t>(dist[v], 1);
+    }
+    std::vector<bool> keep(tris.size());
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+        const auto& v = tris[t].v;
+        keep[t] = dist[v[0]] <= 1 || dist[v[1]] <= 1 || dist[v[2]] <= 1;
+    }
+    trim_to(keep);
+}
+
+}  // namespace subdivtrace::detail

@@ -1,0 +1,172 @@
+#include "tile.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+#include "patch.h"
+
+namespace subdivtrace::detail {
+
+namespace {
+
+/// Descendants of an interpolating scheme's node stay within this many times
+/// the largest edge-point displacement of its neighbourhood from the flat
+/// triangle (a geometric series of ratio <= 1/2 sums to 2x; the prototype saw
+/// ratios 1/2.6 .. 1/3.4). tests/unit/test_shells.cpp holds it to containment.
+constexpr double k_displacement_factor = 2.0;
+/// Relative slack for rounding in the stencils, times the node's extent.
+constexpr double k_rounding_slack = 1e-9;
+
+[[noreturn]] void stencil_cut(const char* what) {
+    // The border arithmetic in patch.h guarantees every value a tile reads;
+    // reaching this is a bug, never bad input.
+    throw std::logic_error(std::string("subdivtrace tile: ") + what +
+                           " outside the patch's complete region");
+}
+
+/// Record of triangle t of patch p (level L), with `next` the patch p
+/// subdivided once (untrimmed; only read when L < max_level).
+NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next, std::uint32_t t) {
+    const PatchTriangle& tri = p.tris[t];
+    NodeRecord rec;
+    for (int c = 0; c < 3; ++c) {
+        const PatchVertex& v = p.verts[tri.v[c]];
+        if (!v.has_normal || !v.has_draw) stencil_cut("a corner's normal or drawn position");
+        rec.position[c] = v.position;
+        rec.normal[c] = v.normal;
+        rec.draw_position[c] = v.draw;
+    }
+
+    // Slab axis: the node's own plane (or its corners' mean normal if it is degenerate).
+    Shell& shell = rec.shell;
+    Vec3 axis = finish_normal(
+        glm::cross(rec.position[1] - rec.position[0], rec.position[2] - rec.position[0]));
+    if (axis == Vec3(0.0)) axis = finish_normal(rec.normal[0] + rec.normal[1] + rec.normal[2]);
+    shell.axis = ctx.shell_kind == ShellKind::aabb_slab ? axis : Vec3(0.0);
+    if (shell.axis != Vec3(0.0)) shell.slab_min = shell.slab_max = glm::dot(shell.axis, rec.position[0]);
+    for (int c = 0; c < 3; ++c) {
+        shell.grow_both(rec.position[c]);
+        shell.grow_both(rec.draw_position[c]);
+    }
+
+    if (tri.id.level < ctx.max_level) {
+        if (ctx.scheme == SchemeKind::loop) {
+            // Loop's stencils are convex combinations, so every descendant
+            // (and limit point) lies in the hull of the corners' 1-rings.
+            for (std::uint32_t v : tri.v) {
+                const Patch::Ring& r = p.rings[v];
+                for (std::uint32_t k = 0; k < r.count; ++k)
+                    shell.grow_both(p.verts[p.ring_nbrs[r.offset + k]].position);
+            }
+        } else {
+            // Interpolating: the children's edge points are exact; deeper
+            // levels are bounded by the displacement of every edge point in
+            // the corners' neighbourhood, times a series factor.
+            double max_displacement = 0.0;
+            for (std::uint32_t v : tri.v) {
+                if (!p.verts[v].has_displacement) stencil_cut("an edge point next to a corner");
+                max_displacement = std::max(max_displacement, p.verts[v].displacement);
+            }
+            for (int e = 0; e < 3; ++e)
+                shell.grow_both(next->verts[p.edges[p.tri_edges[3 * t + e]].point].position);
+            if (tri.id.level + 1 < ctx.max_level) shell.pad(k_displacement_factor * max_displacement);
+        }
+    }
+    const Vec3 extent = shell.hi - shell.lo;
+    const double size =
+        std::max({extent.x, extent.y, extent.z, glm::length(shell.lo), glm::length(shell.hi)});
+    shell.pad(k_rounding_slack * size);
+    return rec;
+}
+
+/// Triangle index of local grid position (x, y) among the n^2 triangles of
+/// resolution n: "up" triangles row by row, then "down" ones.
+std::size_t local_triangle_index(std::uint32_t n, std::uint32_t x, std::uint32_t y, bool down) {
+    if (!down) return std::size_t{y} * n - std::size_t{y} * (y - 1) / 2 + x;
+    const std::size_t ups = std::size_t{n} * (n + 1) / 2;
+    return ups + std::size_t{y} * (n - 1) - std::size_t{y} * (y - 1) / 2 + x;
+}
+
+}  // namespace
+
+NodeId parent_of(const NodeId& id) {
+    NodeId p;
+    p.face = id.face;
+    p.level = static_cast<std::uint8_t>(id.level - 1);
+    p.i = id.i / 2;
+    p.j = id.j / 2;
+    // child_of: an up parent's children have at most one odd coordinate or
+    // "down" flag among (i, j, down); a down parent's have two or three.
+    p.down = (id.i % 2) + (id.j % 2) + (id.down ? 1 : 0) >= 2;
+    return p;
+}
+
+NodeId ancestor_at(NodeId id, int level) {
+    while (id.level > level) id = parent_of(id);
+    return id;
+}
+
+NodeId tile_root_of(const NodeId& id) {
+    return ancestor_at(id, ((id.level - 1) / k_tile_depth) * k_tile_depth);
+}
+
+std::size_t Tile::index_of(const NodeId& id) const {
+    const int j = id.level - root_.level;
+    const std::uint32_t n = std::uint32_t{1} << j;
+    // Offset of depth j: 4 + 16 + ... + 4^(j-1) records before it.
+    const std::size_t offset = ((std::size_t{1} << (2 * j)) - 4) / 3;
+    // The root's sub-grid in local coordinates; a "down" root's is point-reflected.
+    if (!root_.down)
+        return offset + local_triangle_index(n, id.i - root_.i * n, id.j - root_.j * n, id.down);
+    return offset + local_triangle_index(n, (root_.i + 1) * n - id.i - 1,
+                                         (root_.j + 1) * n - id.j - 1, !id.down);
+}
+
+Tile::Tile(const TileContext& ctx, const NodeId& root) : root_(root) {
+    depth_ = std::min(k_tile_depth, ctx.max_level - root.level);
+    const std::size_t count = ((std::size_t{1} << (2 * (depth_ + 1))) - 4) / 3;
+    records_.resize(count);
+
+    // Down to the root's level, keep only the root's ancestor and its border.
+    Patch p = base_patch(ctx.topo, root.face);
+    p.finish(ctx.topo, ctx.scheme);
+    for (int level = 1; level <= root.level; ++level) {
+        Patch q = p.subdivide(ctx.topo, ctx.scheme);
+        const NodeId ancestor = ancestor_at(root, level);
+        q.trim([&](const NodeId& id) { return id == ancestor; });
+        q.finish(ctx.topo, ctx.scheme);
+        p = std::move(q);
+    }
+    // Then the root's descendants, level by level; each level's records need
+    // the next level's edge points, which the next step computes anyway.
+    const auto in_tile = [&](const NodeId& id) {
+        return id.face == root_.face && ancestor_at(id, root_.level) == root_;
+    };
+    Patch q = p.subdivide(ctx.topo, ctx.scheme);
+    for (int j = 1; j <= depth_; ++j) {
+        q.trim(in_tile);
+        q.finish(ctx.topo, ctx.scheme);
+        const int level = root.level + j;
+        Patch next;
+        if (level < ctx.max_level) next = q.subdivide(ctx.topo, ctx.scheme);
+        for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
+            if (!in_tile(q.tris[t].id)) continue;
+            records_[index_of(q.tris[t].id)] = make_record(ctx, q, &next, t);
+        }
+        q = std::move(next);
+    }
+}
+
+std::vector<NodeRecord> build_root_records(const TileContext& ctx) {
+    Patch whole = whole_base_patch(ctx.topo);
+    whole.finish(ctx.topo, ctx.scheme);
+    Patch next;
+    if (ctx.max_level > 0) next = whole.subdivide(ctx.topo, ctx.scheme);
+    std::vector<NodeRecord> roots(whole.tris.size());
+    for (std::uint32_t f = 0; f < whole.tris.size(); ++f) roots[f] = make_record(ctx, whole, &next, f);
+    return roots;
+}
+
+}  // namespace subdivtrace::detail
