@@ -76,7 +76,12 @@ public:
     std::shared_ptr<const detail::Tile> tile(const NodeId& root) {
         std::shared_ptr<const detail::Tile> t;
         if (tiles.lookup(root, t)) return t;
-        auto built = std::make_shared<const detail::Tile>(context, root);
+        // A child tile starts from its parent tile's last patch (rebuilt in
+        // turn if it was evicted: values never depend on the cache).
+        std::shared_ptr<const detail::Tile> parent;
+        if (root.level > 0) parent = tile(detail::parent_tile_root(root));
+        auto built = std::make_shared<const detail::Tile>(context, root,
+                                                          parent ? &parent->last_patch() : nullptr);
         nodes_built.fetch_add(built->node_count(), std::memory_order_relaxed);
         tiles.insert(root, built, sizeof(detail::Tile) + built->owned_bytes());
         return built;

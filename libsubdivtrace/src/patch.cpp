@@ -26,11 +26,13 @@ std::size_t true_incident_count(const BaseTopology& topo, const VertexKey& key) 
 void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     const std::size_t n = verts.size();
     // Incident (triangle, corner) slots per vertex, CSR.
-    std::vector<std::uint32_t> offsets(n + 1, 0);
+    std::vector<std::uint32_t>& offsets = incident_offsets;
+    std::vector<std::uint32_t>& slots = incident_slots;
+    offsets.assign(n + 1, 0);
     for (const PatchTriangle& t : tris)
         for (std::uint32_t v : t.v) ++offsets[v + 1];
     for (std::size_t v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
-    std::vector<std::uint32_t> slots(offsets.back());
+    slots.resize(offsets.back());
     {
         std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
         for (std::uint32_t t = 0; t < tris.size(); ++t)
@@ -106,37 +108,54 @@ void Patch::fill_vertex_ring(std::uint32_t v, VertexRing& ring) const {
     for (std::uint32_t k = 0; k < r.count; ++k) ring.nbrs.push_back(verts[ring_nbrs[r.offset + k]].position);
 }
 
+void Patch::drop_derived() {
+    rings = {};
+    ring_nbrs = {};
+    incident_offsets = {};
+    incident_slots = {};
+    edges = {};
+    tri_edges = {};
+    verts.shrink_to_fit();
+    tris.shrink_to_fit();
+}
+
+std::size_t Patch::owned_bytes() const {
+    return verts.capacity() * sizeof(PatchVertex) + tris.capacity() * sizeof(PatchTriangle) +
+           rings.capacity() * sizeof(Ring) + ring_nbrs.capacity() * sizeof(std::uint32_t) +
+           (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +
+           edges.capacity() * sizeof(PatchEdge) + tri_edges.capacity() * sizeof(std::uint32_t);
+}
+
 void Patch::build_edges() {
-    struct Slot {
-        std::uint32_t lo, hi, slot;
-    };
-    std::vector<Slot> slots;
-    slots.reserve(3 * tris.size());
+    // Every edge once, found through the incident triangles of its endpoint
+    // (finish() built them): the triangles on edge (u, w) all meet u.
+    constexpr std::uint32_t k_unset = UINT32_MAX;
+    edges.clear();
+    tri_edges.assign(3 * tris.size(), k_unset);
     for (std::uint32_t t = 0; t < tris.size(); ++t) {
         for (std::uint32_t e = 0; e < 3; ++e) {
+            if (tri_edges[3 * t + e] != k_unset) continue;
             const std::uint32_t u = tris[t].v[e], w = tris[t].v[(e + 1) % 3];
-            slots.push_back({std::min(u, w), std::max(u, w), 3 * t + e});
+            const std::uint32_t id = static_cast<std::uint32_t>(edges.size());
+            PatchEdge edge;
+            for (std::uint32_t k = incident_offsets[u]; k < incident_offsets[u + 1]; ++k) {
+                const std::uint32_t slot = incident_slots[k];
+                const PatchTriangle& other = tris[slot / 3];
+                const std::uint32_t c = slot % 3;
+                std::uint32_t edge_slot;
+                if (other.v[(c + 1) % 3] == w) edge_slot = slot;                    // u -> w
+                else if (other.v[(c + 2) % 3] == w) edge_slot = slot - c + (c + 2) % 3;  // w -> u
+                else continue;
+                tri_edges[edge_slot] = id;
+                if (edge.slot_count < 2) edge.slot[edge.slot_count] = edge_slot;
+                ++edge.slot_count;
+            }
+            const bool u_first = key_less(verts[u].key, verts[w].key);
+            edge.a = u_first ? u : w;
+            edge.b = u_first ? w : u;
+            edge.valid = verts[edge.a].has_ring && verts[edge.b].has_ring;
+            edges.push_back(edge);
         }
-    }
-    std::sort(slots.begin(), slots.end(), [](const Slot& x, const Slot& y) {
-        return x.lo != y.lo ? x.lo < y.lo : (x.hi != y.hi ? x.hi < y.hi : x.slot < y.slot);
-    });
-    edges.clear();
-    tri_edges.assign(3 * tris.size(), 0);
-    for (std::size_t i = 0; i < slots.size();) {
-        std::size_t j = i;
-        while (j < slots.size() && slots[j].lo == slots[i].lo && slots[j].hi == slots[i].hi) ++j;
-        PatchEdge e;
-        const bool lo_first = key_less(verts[slots[i].lo].key, verts[slots[i].hi].key);
-        e.a = lo_first ? slots[i].lo : slots[i].hi;
-        e.b = lo_first ? slots[i].hi : slots[i].lo;
-        e.valid = verts[e.a].has_ring && verts[e.b].has_ring;
-        e.slot_count = static_cast<std::uint32_t>(j - i);
-        e.slot[0] = slots[i].slot;
-        e.slot[1] = j - i > 1 ? slots[i + 1].slot : slots[i].slot;
-        for (std::size_t k = i; k < j; ++k) tri_edges[slots[k].slot] = static_cast<std::uint32_t>(edges.size());
-        edges.push_back(e);
-        i = j;
     }
 }
 
@@ -276,6 +295,8 @@ void Patch::trim_to(const std::vector<bool>& keep) {
     verts.swap(kept_verts);
     rings.clear();
     ring_nbrs.clear();
+    incident_offsets.clear();
+    incident_slots.clear();
     edges.clear();
     tri_edges.clear();
 }

@@ -71,6 +71,10 @@ public:
     std::vector<Ring> rings;
     std::vector<std::uint32_t> ring_nbrs;
 
+    /// Incident corner slots (3t + c) of each vertex, CSR (built by finish()).
+    std::vector<std::uint32_t> incident_offsets;
+    std::vector<std::uint32_t> incident_slots;
+
     /// Edges and, per triangle corner slot 3t+e, the edge from corner e to e+1.
     std::vector<PatchEdge> edges;
     std::vector<std::uint32_t> tri_edges;
@@ -86,10 +90,14 @@ public:
 
     /// The edge list (tri_edges) and per-vertex displacement of the next level,
     /// then the next level's patch (every triangle split 1-to-4). Values whose
-    /// stencil is incomplete are marked invalid.
+    /// stencil is incomplete are marked invalid. Call after finish().
     Patch subdivide(const BaseTopology& topo, SchemeKind scheme);
 
     void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
+
+    /// Frees rings and edges (finish() and subdivide() rebuild them).
+    void drop_derived();
+    std::size_t owned_bytes() const;
 
 private:
     void build_edges();

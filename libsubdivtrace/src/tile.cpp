@@ -124,27 +124,28 @@ std::size_t Tile::index_of(const NodeId& id) const {
                                          (root_.j + 1) * n - id.j - 1, !id.down);
 }
 
-Tile::Tile(const TileContext& ctx, const NodeId& root) : root_(root) {
+NodeId parent_tile_root(const NodeId& root) { return ancestor_at(root, root.level - k_tile_depth); }
+
+Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch) : root_(root) {
     depth_ = std::min(k_tile_depth, ctx.max_level - root.level);
     const std::size_t count = ((std::size_t{1} << (2 * (depth_ + 1))) - 4) / 3;
     records_.resize(count);
 
-    // Down to the root's level, keep only the root's ancestor and its border.
-    Patch p = base_patch(ctx.topo, root.face);
-    p.finish(ctx.topo, ctx.scheme);
-    for (int level = 1; level <= root.level; ++level) {
-        Patch q = p.subdivide(ctx.topo, ctx.scheme);
-        const NodeId ancestor = ancestor_at(root, level);
-        q.trim([&](const NodeId& id) { return id == ancestor; });
-        q.finish(ctx.topo, ctx.scheme);
-        p = std::move(q);
-    }
-    // Then the root's descendants, level by level; each level's records need
-    // the next level's edge points, which the next step computes anyway.
+    // The root's children and their border: cut from the parent tile's last
+    // patch, or subdivided from the base triangles around the root.
     const auto in_tile = [&](const NodeId& id) {
         return id.face == root_.face && ancestor_at(id, root_.level) == root_;
     };
-    Patch q = p.subdivide(ctx.topo, ctx.scheme);
+    Patch q;
+    if (parent_patch) {
+        q = *parent_patch;
+    } else {
+        Patch p = base_patch(ctx.topo, root.face);
+        p.finish(ctx.topo, ctx.scheme);
+        q = p.subdivide(ctx.topo, ctx.scheme);
+    }
+    // Level by level; each level's records need the next level's edge
+    // points, which the next step computes anyway.
     for (int j = 1; j <= depth_; ++j) {
         q.trim(in_tile);
         q.finish(ctx.topo, ctx.scheme);
@@ -157,6 +158,17 @@ Tile::Tile(const TileContext& ctx, const NodeId& root) : root_(root) {
         }
         q = std::move(next);
     }
+    if (!q.tris.empty()) {
+        // Kept for the child tiles: the level below the deepest one, cut to
+        // the tile's own triangles and their border.
+        q.trim(in_tile);
+        q.drop_derived();
+        last_patch_ = std::move(q);
+    }
+}
+
+std::size_t Tile::owned_bytes() const {
+    return records_.capacity() * sizeof(NodeRecord) + last_patch_.owned_bytes();
 }
 
 std::vector<NodeRecord> build_root_records(const TileContext& ctx) {
