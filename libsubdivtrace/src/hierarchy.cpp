@@ -69,7 +69,7 @@ public:
     HierarchyImpl(const Mesh& mesh, SchemeKind scheme, int max_level, std::size_t cache_bytes,
                   ShellKind shell_kind)
         : topo(mesh),
-          context{topo, scheme, shell_kind, max_level},
+          context{topo, scheme, shell_kind, max_level, &nodes_built},
           roots(detail::build_root_records(context)),
           tiles(cache_bytes) {}
 
@@ -82,16 +82,15 @@ public:
         if (root.level > 0) parent = tile(detail::parent_tile_root(root));
         auto built = std::make_shared<const detail::Tile>(context, root,
                                                           parent ? &parent->last_patch() : nullptr);
-        nodes_built.fetch_add(built->node_count(), std::memory_order_relaxed);
-        tiles.insert(root, built, sizeof(detail::Tile) + built->owned_bytes());
+        tiles.insert(root, built, built->bytes_when_complete());
         return built;
     }
 
+    std::atomic<std::uint64_t> nodes_built{0};
     detail::BaseTopology topo;
     detail::TileContext context;
     std::vector<NodeRecord> roots;
     detail::ShardedLruCache<NodeId, std::shared_ptr<const detail::Tile>, NodeKeyHash> tiles;
-    std::atomic<std::uint64_t> nodes_built{0};
 };
 
 Hierarchy::Hierarchy(const Mesh& mesh, SchemeKind scheme, int max_level,

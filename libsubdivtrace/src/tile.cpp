@@ -103,75 +103,97 @@ NodeId parent_of(const NodeId& id) {
     return p;
 }
 
-NodeId ancestor_at(NodeId id, int level) {
-    while (id.level > level) id = parent_of(id);
-    return id;
+NodeId ancestor_at(const NodeId& id, int level) {
+    if (id.level <= level) return id;
+    // The ancestor's cell is the grid position shifted down; within a cell
+    // of side 2^s, a descendant lies in the "down" half when its local
+    // coordinates plus its own down flag reach 2^s (parent_of applied s times).
+    const int s = id.level - level;
+    const std::uint32_t mask = (std::uint32_t{1} << s) - 1;
+    NodeId a;
+    a.face = id.face;
+    a.level = static_cast<std::uint8_t>(level);
+    a.i = id.i >> s;
+    a.j = id.j >> s;
+    a.down = (id.i & mask) + (id.j & mask) + (id.down ? 1u : 0u) > mask;
+    return a;
 }
 
 NodeId tile_root_of(const NodeId& id) {
     return ancestor_at(id, ((id.level - 1) / k_tile_depth) * k_tile_depth);
 }
 
-std::size_t Tile::index_of(const NodeId& id) const {
-    const int j = id.level - root_.level;
-    const std::uint32_t n = std::uint32_t{1} << j;
-    // Offset of depth j: 4 + 16 + ... + 4^(j-1) records before it.
-    const std::size_t offset = ((std::size_t{1} << (2 * j)) - 4) / 3;
+std::size_t Tile::index_in_level(const NodeId& id) const {
+    const std::uint32_t n = std::uint32_t{1} << (id.level - root_.level);
     // The root's sub-grid in local coordinates; a "down" root's is point-reflected.
-    if (!root_.down)
-        return offset + local_triangle_index(n, id.i - root_.i * n, id.j - root_.j * n, id.down);
-    return offset + local_triangle_index(n, (root_.i + 1) * n - id.i - 1,
-                                         (root_.j + 1) * n - id.j - 1, !id.down);
+    if (!root_.down) return local_triangle_index(n, id.i - root_.i * n, id.j - root_.j * n, id.down);
+    return local_triangle_index(n, (root_.i + 1) * n - id.i - 1, (root_.j + 1) * n - id.j - 1,
+                                !id.down);
 }
 
 NodeId parent_tile_root(const NodeId& root) { return ancestor_at(root, root.level - k_tile_depth); }
 
-Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch) : root_(root) {
-    depth_ = std::min(k_tile_depth, ctx.max_level - root.level);
-    const std::size_t count = ((std::size_t{1} << (2 * (depth_ + 1))) - 4) / 3;
-    records_.resize(count);
-
+Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch)
+    : ctx_(&ctx), root_(root), levels_(std::min(k_tile_depth, ctx.max_level - root.level)) {
+    depth_ = static_cast<int>(levels_.size());
     // The root's children and their border: cut from the parent tile's last
     // patch, or subdivided from the base triangles around the root.
-    const auto in_tile = [&](const NodeId& id) {
-        return id.face == root_.face && ancestor_at(id, root_.level) == root_;
-    };
-    Patch q;
     if (parent_patch) {
-        q = *parent_patch;
+        frontier_ = *parent_patch;
     } else {
         Patch p = base_patch(ctx.topo, root.face);
         p.finish(ctx.topo, ctx.scheme);
-        q = p.subdivide(ctx.topo, ctx.scheme);
+        frontier_ = p.subdivide(ctx.topo, ctx.scheme);
     }
-    // Level by level; each level's records need the next level's edge
-    // points, which the next step computes anyway.
-    for (int j = 1; j <= depth_; ++j) {
-        q.trim(in_tile);
-        q.finish(ctx.topo, ctx.scheme);
-        const int level = root.level + j;
-        Patch next;
-        if (level < ctx.max_level) next = q.subdivide(ctx.topo, ctx.scheme);
-        for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
-            if (!in_tile(q.tris[t].id)) continue;
-            records_[index_of(q.tris[t].id)] = make_record(ctx, q, &next, t);
-        }
-        q = std::move(next);
-    }
-    if (!q.tris.empty()) {
-        // Kept for the child tiles: the level below the deepest one, cut to
-        // the tile's own triangles and their border.
-        q.trim(in_tile);
-        q.drop_derived();
-        last_patch_ = std::move(q);
-    }
+    build_level(1);
 }
 
-std::size_t Tile::owned_bytes() const {
-    return records_.capacity() * sizeof(NodeRecord) + last_patch_.owned_bytes();
+bool Tile::in_tile(const NodeId& id) const {
+    return id.face == root_.face && id.level > root_.level && ancestor_at(id, root_.level) == root_;
+}
+
+void Tile::build_level(int j) {
+    // frontier_ is level root.level + j: the records of that level need the
+    // next level's edge points, which also become the next frontier.
+    Patch& q = frontier_;
+    q.trim([&](const NodeId& id) { return in_tile(id); });
+    q.finish(ctx_->topo, ctx_->scheme);
+    const int level = root_.level + j;
+    Patch next;
+    if (level < ctx_->max_level) next = q.subdivide(ctx_->topo, ctx_->scheme);
+    std::vector<NodeRecord>& records = levels_[j - 1];
+    records.resize(std::size_t{1} << (2 * j));
+    for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
+        if (in_tile(q.tris[t].id))
+            records[index_in_level(q.tris[t].id)] = make_record(*ctx_, q, &next, t);
+    }
+    // Kept, cut to the tile's own triangles and their border: the next
+    // level's start, and after the deepest level where child tiles start.
+    next.trim([&](const NodeId& id) { return in_tile(id); });
+    next.drop_derived();
+    frontier_ = std::move(next);
+    ctx_->records_built->fetch_add(records.size(), std::memory_order_relaxed);
+    ready_.store(j, std::memory_order_release);
+}
+
+void Tile::ensure_level(int j) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto* self = const_cast<Tile*>(this);
+    for (int k = ready_.load(std::memory_order_relaxed) + 1; k <= j; ++k) self->build_level(k);
+}
+
+const Patch& Tile::last_patch() const {
+    if (ready_.load(std::memory_order_acquire) < depth_) ensure_level(depth_);
+    return frontier_;
+}
+
+std::size_t Tile::bytes_when_complete() const {
+    const std::size_t records = ((std::size_t{1} << (2 * (depth_ + 1))) - 4) / 3;
+    return sizeof(Tile) + records * sizeof(NodeRecord) + 2 * frontier_.owned_bytes();
 }
 
 std::vector<NodeRecord> build_root_records(const TileContext& ctx) {
+    ctx.records_built->fetch_add(ctx.topo.face_count(), std::memory_order_relaxed);
     Patch whole = whole_base_patch(ctx.topo);
     whole.finish(ctx.topo, ctx.scheme);
     Patch next;

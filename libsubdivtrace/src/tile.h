@@ -4,7 +4,9 @@
 // array kernels, and cached as one entry. A node's record is then found in
 // its tile by index arithmetic.
 
+#include <atomic>
 #include <cstddef>
+#include <mutex>
 #include <memory>
 #include <vector>
 
@@ -15,10 +17,10 @@
 
 namespace subdivtrace::detail {
 
-/// Levels a tile spans below its root (16 triangles at its deepest level).
-/// Deeper tiles amortise their border better but build levels no ray needs
-/// (docs/tracer.md measures 2, 3 and 4).
-constexpr int k_tile_depth = 2;
+/// Levels a tile spans below its root (64 triangles at its deepest level).
+/// Deeper tiles amortise their border better; levels are built on demand,
+/// so no ray pays for levels below what it needs (docs/tracer.md measures 2-4).
+constexpr int k_tile_depth = 3;
 
 /// What a tile build needs to know of the hierarchy.
 struct TileContext {
@@ -26,35 +28,52 @@ struct TileContext {
     SchemeKind scheme;
     ShellKind shell_kind;
     int max_level;
+    /// Running count of node records built (for statistics).
+    std::atomic<std::uint64_t>* records_built;
 };
 
 /// The records of a node's descendants, levels root.level+1 .. root.level+depth.
+/// Levels are built on first use (the first at construction): a ray that
+/// stops one level below the root pays for that level only.
 class Tile {
 public:
     /// `parent_patch`: the last patch of the tile whose deepest level holds
     /// `root`, one level below it (nullptr for a base triangle's tile).
+    /// `ctx` must outlive the tile.
     Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch);
 
     const NodeId& root() const { return root_; }
     int depth() const { return depth_; }
-    std::size_t node_count() const { return records_.size(); }
-    /// Heap bytes the tile owns.
-    std::size_t owned_bytes() const;
+
+    /// The record of descendant `id` (root.level < id.level <= root.level + depth),
+    /// building its level first if needed. Thread-safe.
+    const NodeRecord& record(const NodeId& id) const {
+        const int j = id.level - root_.level;
+        if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
+        return levels_[j - 1][index_in_level(id)];
+    }
 
     /// The level below its deepest one (its triangles' children plus their
-    /// border, not finished), where child tiles start; empty at max_level.
-    const Patch& last_patch() const { return last_patch_; }
+    /// border, not finished), where child tiles start; builds every level
+    /// first. Empty at max_level.
+    const Patch& last_patch() const;
 
-    /// The record of descendant `id` (root.level < id.level <= root.level + depth).
-    const NodeRecord& record(const NodeId& id) const { return records_[index_of(id)]; }
+    /// What the cache charges for the tile: its size with every level built.
+    std::size_t bytes_when_complete() const;
 
 private:
-    std::size_t index_of(const NodeId& id) const;
+    bool in_tile(const NodeId& id) const;
+    std::size_t index_in_level(const NodeId& id) const;
+    void build_level(int j);
+    void ensure_level(int j) const;
 
+    const TileContext* ctx_;
     NodeId root_;
     int depth_ = 0;
-    std::vector<NodeRecord> records_;
-    Patch last_patch_;
+    std::vector<std::vector<NodeRecord>> levels_;
+    Patch frontier_;
+    mutable std::mutex mutex_;
+    mutable std::atomic<int> ready_{0};
 };
 
 /// Root of the tile that holds node `id` (level >= 1).
@@ -67,6 +86,6 @@ std::vector<NodeRecord> build_root_records(const TileContext& ctx);
 
 /// The node's parent (level >= 1) and its ancestor at `level`.
 NodeId parent_of(const NodeId& id);
-NodeId ancestor_at(NodeId id, int level);
+NodeId ancestor_at(const NodeId& id, int level);
 
 }  // namespace subdivtrace::detail
