@@ -70,7 +70,7 @@ public:
                   ShellKind shell_kind)
         : topo(mesh),
           context{topo, scheme, shell_kind, max_level, &nodes_built},
-          roots(detail::build_root_records(context)),
+          roots(context),
           tiles(cache_bytes) {}
 
     std::shared_ptr<const detail::Tile> tile(const NodeId& root) {
@@ -89,7 +89,7 @@ public:
     std::atomic<std::uint64_t> nodes_built{0};
     detail::BaseTopology topo;
     detail::TileContext context;
-    std::vector<NodeRecord> roots;
+    detail::RootRecords roots;
     detail::ShardedLruCache<NodeId, std::shared_ptr<const detail::Tile>, NodeKeyHash> tiles;
 };
 
@@ -105,7 +105,7 @@ std::size_t Hierarchy::face_count() const { return impl_->topo.face_count(); }
 bool Hierarchy::closed() const { return impl_->topo.closed(); }
 
 NodeRecord Hierarchy::node(const NodeId& id) const {
-    if (id.level == 0) return impl_->roots[id.face];
+    if (id.level == 0) return impl_->roots.record(id.face);
     return impl_->tile(detail::tile_root_of(id))->record(id);
 }
 
@@ -116,8 +116,8 @@ HierarchyCounters Hierarchy::counters() const {
     c.node_hits = t.hits;
     c.node_misses = t.misses;
     c.evictions = t.evictions;
-    c.bytes = t.bytes + impl_->roots.capacity() * sizeof(NodeRecord);
-    c.peak_bytes = t.peak_bytes + impl_->roots.capacity() * sizeof(NodeRecord);
+    c.bytes = t.bytes + impl_->roots.owned_bytes();
+    c.peak_bytes = t.peak_bytes + impl_->roots.owned_bytes();
     return c;
 }
 

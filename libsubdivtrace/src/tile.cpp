@@ -44,7 +44,8 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
     Vec3 axis = finish_normal(
         glm::cross(rec.position[1] - rec.position[0], rec.position[2] - rec.position[0]));
     if (axis == Vec3(0.0)) axis = finish_normal(rec.normal[0] + rec.normal[1] + rec.normal[2]);
-    shell.axis = ctx.shell_kind == ShellKind::aabb_slab ? axis : Vec3(0.0);
+    // Rounded to float first: the compact shell stores this very axis.
+    shell.axis = ctx.shell_kind == ShellKind::aabb_slab ? Vec3(glm::vec3(axis)) : Vec3(0.0);
     if (shell.axis != Vec3(0.0)) shell.slab_min = shell.slab_max = glm::dot(shell.axis, rec.position[0]);
     for (int c = 0; c < 3; ++c) {
         shell.grow_both(rec.position[c]);
@@ -161,19 +162,53 @@ void Tile::build_level(int j) {
     const int level = root_.level + j;
     Patch next;
     if (level < ctx_->max_level) next = q.subdivide(ctx_->topo, ctx_->scheme);
-    std::vector<NodeRecord>& records = levels_[j - 1];
-    records.resize(std::size_t{1} << (2 * j));
+    TileLevel& out = levels_[j - 1];
+    const std::size_t n = std::size_t{1} << j;
+    out.position.resize((n + 1) * (n + 2) / 2);
+    out.normal.resize(out.position.size());
+    if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.position.size());
+    out.shells.resize(n * n);
     for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
-        if (in_tile(q.tris[t].id))
-            records[index_in_level(q.tris[t].id)] = make_record(*ctx_, q, &next, t);
+        const PatchTriangle& tri = q.tris[t];
+        if (!in_tile(tri.id)) continue;
+        const NodeRecord rec = make_record(*ctx_, q, &next, t);
+        out.shells[index_in_level(tri.id)] = CompactShell::from(rec.shell);
+        const auto grid = node_corner_grid(tri.id);
+        for (int c = 0; c < 3; ++c) {
+            const std::size_t v = vertex_index(tri.id, grid[c][0], grid[c][1]);
+            out.position[v] = rec.position[c];
+            out.normal[v] = rec.normal[c];
+            if (!out.draw.empty()) out.draw[v] = rec.draw_position[c];
+        }
     }
     // Kept, cut to the tile's own triangles and their border: the next
     // level's start, and after the deepest level where child tiles start.
     next.trim([&](const NodeId& id) { return in_tile(id); });
     next.drop_derived();
     frontier_ = std::move(next);
-    ctx_->records_built->fetch_add(records.size(), std::memory_order_relaxed);
+    ctx_->records_built->fetch_add(out.shells.size(), std::memory_order_relaxed);
     ready_.store(j, std::memory_order_release);
+}
+
+std::size_t Tile::vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const {
+    const std::size_t n = std::size_t{1} << (id.level - root_.level);
+    const std::size_t x = root_.down ? (root_.i + 1) * n - gi : gi - root_.i * n;
+    const std::size_t y = root_.down ? (root_.j + 1) * n - gj : gj - root_.j * n;
+    // Points row by row: row y holds n + 1 - y of them.
+    return y * (n + 1) - y * (y - 1) / 2 + x;
+}
+
+NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
+    NodeRecord rec;
+    const auto grid = node_corner_grid(id);
+    for (int c = 0; c < 3; ++c) {
+        const std::size_t v = vertex_index(id, grid[c][0], grid[c][1]);
+        rec.position[c] = level.position[v];
+        rec.normal[c] = level.normal[v];
+        rec.draw_position[c] = level.draw.empty() ? level.position[v] : level.draw[v];
+    }
+    rec.shell = level.shells[index_in_level(id)].expand();
+    return rec;
 }
 
 void Tile::ensure_level(int j) const {
@@ -188,19 +223,93 @@ const Patch& Tile::last_patch() const {
 }
 
 std::size_t Tile::bytes_when_complete() const {
-    const std::size_t records = ((std::size_t{1} << (2 * (depth_ + 1))) - 4) / 3;
-    return sizeof(Tile) + records * sizeof(NodeRecord) + 2 * frontier_.owned_bytes();
+    std::size_t bytes = sizeof(Tile) + levels_.capacity() * sizeof(TileLevel) + 2 * frontier_.owned_bytes();
+    const std::size_t per_vertex = (ctx_->scheme == SchemeKind::loop ? 3 : 2) * sizeof(Vec3);
+    for (int j = 1; j <= depth_; ++j) {
+        const std::size_t n = std::size_t{1} << j;
+        bytes += (n + 1) * (n + 2) / 2 * per_vertex + n * n * sizeof(CompactShell);
+    }
+    return bytes;
 }
 
-std::vector<NodeRecord> build_root_records(const TileContext& ctx) {
-    ctx.records_built->fetch_add(ctx.topo.face_count(), std::memory_order_relaxed);
+std::size_t TileLevel::owned_bytes() const {
+    return (position.capacity() + normal.capacity() + draw.capacity()) * sizeof(Vec3) +
+           shells.capacity() * sizeof(CompactShell);
+}
+
+namespace {
+
+float round_down(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+
+float round_up(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
+
+}  // namespace
+
+CompactShell CompactShell::from(const Shell& s) {
+    CompactShell c;
+    for (int a = 0; a < 3; ++a) {
+        c.lo[a] = round_down(s.lo[a]);
+        c.hi[a] = round_up(s.hi[a]);
+        c.axis[a] = static_cast<float>(s.axis[a]);
+    }
+    c.slab_min = round_down(s.slab_min);
+    c.slab_max = round_up(s.slab_max);
+    return c;
+}
+
+Shell CompactShell::expand() const {
+    Shell s;
+    s.lo = Vec3(lo[0], lo[1], lo[2]);
+    s.hi = Vec3(hi[0], hi[1], hi[2]);
+    s.axis = Vec3(axis[0], axis[1], axis[2]);
+    s.slab_min = slab_min;
+    s.slab_max = slab_max;
+    return s;
+}
+
+RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     Patch whole = whole_base_patch(ctx.topo);
     whole.finish(ctx.topo, ctx.scheme);
     Patch next;
     if (ctx.max_level > 0) next = whole.subdivide(ctx.topo, ctx.scheme);
-    std::vector<NodeRecord> roots(whole.tris.size());
-    for (std::uint32_t f = 0; f < whole.tris.size(); ++f) roots[f] = make_record(ctx, whole, &next, f);
-    return roots;
+    // whole_base_patch keeps base vertex ids as local indices.
+    normal_.resize(whole.verts.size());
+    if (ctx.scheme == SchemeKind::loop) draw_.resize(whole.verts.size());
+    shells_.resize(whole.tris.size());
+    for (std::uint32_t f = 0; f < whole.tris.size(); ++f) {
+        const NodeRecord rec = make_record(ctx, whole, &next, f);
+        shells_[f] = CompactShell::from(rec.shell);
+        for (int c = 0; c < 3; ++c) {
+            normal_[whole.tris[f].v[c]] = rec.normal[c];
+            if (!draw_.empty()) draw_[whole.tris[f].v[c]] = rec.draw_position[c];
+        }
+    }
+    ctx.records_built->fetch_add(shells_.size(), std::memory_order_relaxed);
+}
+
+NodeRecord RootRecords::record(std::uint32_t face) const {
+    NodeRecord rec;
+    const Triangle& t = mesh_->triangles[face];
+    for (int c = 0; c < 3; ++c) {
+        rec.position[c] = mesh_->positions[t[c]];
+        rec.normal[c] = normal_[t[c]];
+        rec.draw_position[c] = draw_.empty() ? rec.position[c] : draw_[t[c]];
+    }
+    rec.shell = shells_[face].expand();
+    return rec;
+}
+
+std::size_t RootRecords::owned_bytes() const {
+    return (normal_.capacity() + draw_.capacity()) * sizeof(Vec3) +
+           shells_.capacity() * sizeof(CompactShell);
 }
 
 }  // namespace subdivtrace::detail

@@ -32,6 +32,31 @@ struct TileContext {
     std::atomic<std::uint64_t>* records_built;
 };
 
+/// A shell stored in single precision, rounded outwards: what a ray reads of
+/// a node's bounds at 44 bytes instead of 88.
+struct CompactShell {
+    float lo[3];
+    float hi[3];
+    float axis[3];
+    float slab_min;
+    float slab_max;
+
+    /// `shell.axis` must already be a float-representable vector (make_record
+    /// rounds it first), so the slab keeps its meaning.
+    static CompactShell from(const Shell& shell);
+    Shell expand() const;
+};
+
+/// One level of a tile: vertex values on the root's sub-grid of resolution
+/// n = 2^j ((n+1)(n+2)/2 points) and a shell per triangle (n^2).
+struct TileLevel {
+    std::vector<Vec3> position;
+    std::vector<Vec3> normal;
+    std::vector<Vec3> draw;  ///< Loop only (interpolating schemes draw at position)
+    std::vector<CompactShell> shells;
+    std::size_t owned_bytes() const;
+};
+
 /// The records of a node's descendants, levels root.level+1 .. root.level+depth.
 /// Levels are built on first use (the first at construction): a ray that
 /// stops one level below the root pays for that level only.
@@ -47,10 +72,10 @@ public:
 
     /// The record of descendant `id` (root.level < id.level <= root.level + depth),
     /// building its level first if needed. Thread-safe.
-    const NodeRecord& record(const NodeId& id) const {
+    NodeRecord record(const NodeId& id) const {
         const int j = id.level - root_.level;
         if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
-        return levels_[j - 1][index_in_level(id)];
+        return assemble(levels_[j - 1], id);
     }
 
     /// The level below its deepest one (its triangles' children plus their
@@ -64,13 +89,15 @@ public:
 private:
     bool in_tile(const NodeId& id) const;
     std::size_t index_in_level(const NodeId& id) const;
+    std::size_t vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const;
+    NodeRecord assemble(const TileLevel& level, const NodeId& id) const;
     void build_level(int j);
     void ensure_level(int j) const;
 
     const TileContext* ctx_;
     NodeId root_;
     int depth_ = 0;
-    std::vector<std::vector<NodeRecord>> levels_;
+    std::vector<TileLevel> levels_;
     Patch frontier_;
     mutable std::mutex mutex_;
     mutable std::atomic<int> ready_{0};
@@ -81,8 +108,20 @@ NodeId tile_root_of(const NodeId& id);
 /// Root of the tile whose deepest level holds `root` (a tile root of level >= 1).
 NodeId parent_tile_root(const NodeId& root);
 
-/// The level-0 records, one per base triangle, computed over the whole base mesh.
-std::vector<NodeRecord> build_root_records(const TileContext& ctx);
+/// The level-0 records, one per base triangle, computed over the whole base
+/// mesh once; kept as compact shells plus per-vertex normals and drawn positions.
+class RootRecords {
+public:
+    explicit RootRecords(const TileContext& ctx);
+    NodeRecord record(std::uint32_t face) const;
+    std::size_t owned_bytes() const;
+
+private:
+    const Mesh* mesh_;
+    std::vector<Vec3> normal_;
+    std::vector<Vec3> draw_;  ///< Loop only
+    std::vector<CompactShell> shells_;
+};
 
 /// The node's parent (level >= 1) and its ancestor at `level`.
 NodeId parent_of(const NodeId& id);

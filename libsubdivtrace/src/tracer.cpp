@@ -95,12 +95,11 @@ public:
         : mesh(std::move(m)),
           options(o),
           hierarchy(mesh, o.scheme, o.max_level, o.cache_mb << 20, o.shell_kind) {
-        roots.reserve(mesh.triangles.size());
         std::vector<Vec3> lo, hi;
         for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-            roots.push_back(hierarchy.node(Hierarchy::root(f)));
-            lo.push_back(roots.back().shell.lo);
-            hi.push_back(roots.back().shell.hi);
+            const Shell shell = hierarchy.node(Hierarchy::root(f)).shell;
+            lo.push_back(shell.lo);
+            hi.push_back(shell.hi);
             bounds.lo = f == 0 ? lo.back() : glm::min(bounds.lo, lo.back());
             bounds.hi = f == 0 ? hi.back() : glm::max(bounds.hi, hi.back());
         }
@@ -118,7 +117,6 @@ public:
     Mesh mesh;
     SurfaceOptions options;
     Hierarchy hierarchy;
-    std::vector<NodeRecord> roots;
     detail::Bvh top;
     Bounds3 bounds;
     double scale = 1.0;
@@ -260,7 +258,7 @@ struct Traversal {
     /// Starts the descent at a base triangle: its corners and edges are its own.
     void visit_root(std::uint32_t face) {
         const NodeId id = Hierarchy::root(face);
-        const NodeRecord& rec = s.roots[face];
+        const NodeRecord rec = s.hierarchy.node(id);
         DrawnCorner drawn[3];
         for (int c = 0; c < 3; ++c)
             drawn[c] = {rec.draw_position[c], rec.normal[c], grid_domain(id, c), true};
@@ -423,7 +421,7 @@ void SurfaceImpl::collect_drawn(const Vec3& origin, double origin_distance,
                  nullptr,
                  TraceCounters{},
                  &out};
-    for (std::uint32_t face = 0; face < roots.size(); ++face) tr.visit_root(face);
+    for (std::uint32_t face = 0; face < mesh.triangles.size(); ++face) tr.visit_root(face);
 }
 
 AdaptiveSurface::AdaptiveSurface(Mesh mesh, const SurfaceOptions& options) {
