@@ -1,5 +1,6 @@
 #include "subdivtrace/hierarchy.h"
 
+#include <array>
 #include <atomic>
 #include <memory>
 
@@ -10,6 +11,8 @@
 namespace subdivtrace {
 
 namespace {
+
+std::atomic<std::uint64_t> g_next_hierarchy_id{1};
 
 struct NodeKeyHash {
     std::size_t operator()(const NodeId& n) const {
@@ -74,8 +77,33 @@ public:
           tiles(cache_bytes) {}
 
     std::shared_ptr<const detail::Tile> tile(const NodeId& root) {
+        // A few tiles per thread in front of the shared cache: a ray's
+        // neighbours descend through the same tiles, and this spares them the
+        // shared cache's lock. Tiles never change once built, so a thread
+        // holding one cannot see a value the cache would not give.
+        struct Front {
+            std::uint64_t owner = 0;
+            struct Slot {
+                NodeId root;
+                std::shared_ptr<const detail::Tile> tile;
+            };
+            std::array<Slot, 64> slots;
+        };
+        thread_local Front front;
+        if (front.owner != id) {
+            for (auto& slot : front.slots) slot.tile.reset();
+            front.owner = id;
+        }
+        auto& slot = front.slots[NodeKeyHash{}(root) % front.slots.size()];
+        if (slot.tile && slot.root == root) return slot.tile;
         std::shared_ptr<const detail::Tile> t;
-        if (tiles.lookup(root, t)) return t;
+        if (!tiles.lookup(root, t)) t = build(root);
+        slot.root = root;
+        slot.tile = t;
+        return t;
+    }
+
+    std::shared_ptr<const detail::Tile> build(const NodeId& root) {
         // A child tile starts from its parent tile's last patch (rebuilt in
         // turn if it was evicted: values never depend on the cache).
         std::shared_ptr<const detail::Tile> parent;
@@ -85,6 +113,9 @@ public:
         tiles.insert(root, built, built->bytes_when_complete());
         return built;
     }
+
+    /// Never reused, so a thread's front cannot confuse two hierarchies.
+    const std::uint64_t id = g_next_hierarchy_id.fetch_add(1);
 
     std::atomic<std::uint64_t> nodes_built{0};
     detail::BaseTopology topo;
@@ -107,6 +138,13 @@ bool Hierarchy::closed() const { return impl_->topo.closed(); }
 NodeRecord Hierarchy::node(const NodeId& id) const {
     if (id.level == 0) return impl_->roots.record(id.face);
     return impl_->tile(detail::tile_root_of(id))->record(id);
+}
+
+void Hierarchy::children(const NodeId& id, std::array<NodeRecord, 4>& out) const {
+    const NodeId first = child_of(id, 0);
+    const auto tile = impl_->tile(detail::tile_root_of(first));
+    out[0] = tile->record(first);
+    for (int c = 1; c < 4; ++c) out[c] = tile->record(child_of(id, c));
 }
 
 HierarchyCounters Hierarchy::counters() const {

@@ -40,6 +40,7 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     }
 
     rings.assign(n, Ring{});
+    derived.assign(n, VertexDerived{});
     ring_nbrs.clear();
     std::vector<FanPair<std::uint32_t>> pairs;
     OrderedRing<std::uint32_t> ordered;
@@ -51,10 +52,10 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     VertexRing ring;
     for (std::uint32_t v = 0; v < n; ++v) {
         PatchVertex& pv = verts[v];
+        VertexDerived& dv = derived[v];
         const std::uint32_t count = offsets[v + 1] - offsets[v];
-        pv.has_ring = pv.has_position && count == true_incident_count(topo, pv.key);
-        pv.has_normal = false;
-        if (!pv.has_ring) continue;
+        dv.has_ring = pv.has_position && count == true_incident_count(topo, pv.key);
+        if (!dv.has_ring) continue;
         // The canonical order: pairs sorted by key, so every patch that holds
         // this whole ring sums and walks it in the same order.
         pairs.clear();
@@ -67,7 +68,7 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
                              verts[pairs.back().to].has_position;
         }
         if (!ring_positions) {
-            pv.has_ring = false;
+            dv.has_ring = false;
             continue;
         }
         std::sort(pairs.begin(), pairs.end(), pair_less);
@@ -82,8 +83,8 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
         Vec3 sum(0.0);
         for (const auto& pr : pairs)
             sum += angle_weighted_normal(pv.position, verts[pr.from].position, verts[pr.to].position);
-        pv.normal = finish_normal(sum);
-        pv.has_normal = true;
+        dv.normal = finish_normal(sum);
+        dv.has_normal = true;
         if (scheme == SchemeKind::loop && pv.key.level == level) {
             // Loop draws a vertex at its limit point, from its birth-level ring.
             fill_vertex_ring(v, ring);
@@ -109,6 +110,7 @@ void Patch::fill_vertex_ring(std::uint32_t v, VertexRing& ring) const {
 }
 
 void Patch::drop_derived() {
+    derived = {};
     rings = {};
     ring_nbrs = {};
     incident_offsets = {};
@@ -121,6 +123,7 @@ void Patch::drop_derived() {
 
 std::size_t Patch::owned_bytes() const {
     return verts.capacity() * sizeof(PatchVertex) + tris.capacity() * sizeof(PatchTriangle) +
+           derived.capacity() * sizeof(VertexDerived) +
            rings.capacity() * sizeof(Ring) + ring_nbrs.capacity() * sizeof(std::uint32_t) +
            (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +
            edges.capacity() * sizeof(PatchEdge) + tri_edges.capacity() * sizeof(std::uint32_t);
@@ -153,7 +156,7 @@ void Patch::build_edges() {
             const bool u_first = key_less(verts[u].key, verts[w].key);
             edge.a = u_first ? u : w;
             edge.b = u_first ? w : u;
-            edge.valid = verts[edge.a].has_ring && verts[edge.b].has_ring;
+            edge.valid = derived[edge.a].has_ring && derived[edge.b].has_ring;
             edges.push_back(edge);
         }
     }
@@ -164,8 +167,8 @@ Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
     s.a = verts[e.a].position;
     s.b = verts[e.b].position;
     if (scheme == SchemeKind::normal) {
-        s.normal_a = verts[e.a].normal;
-        s.normal_b = verts[e.b].normal;
+        s.normal_a = derived[e.a].normal;
+        s.normal_b = derived[e.b].normal;
         return subdivtrace::edge_point(scheme, s);
     }
     // As LevelTopology: interior when exactly two triangles share the edge;
@@ -221,13 +224,13 @@ Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme) {
         if (scheme != SchemeKind::loop) {
             nv.position = pv.position;
             nv.has_position = pv.has_position;
-        } else if (pv.has_ring) {
+        } else if (derived[v].has_ring) {
             fill_vertex_ring(v, ring);
             nv.position = loop_vertex_point(ring);
             nv.has_position = true;
         }
-        verts[v].displacement = 0.0;
-        verts[v].has_displacement = pv.has_ring;
+        derived[v].displacement = 0.0;
+        derived[v].has_displacement = derived[v].has_ring;
     }
 
     // Edge points, and the displacement each causes at its endpoints.
@@ -236,15 +239,15 @@ Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme) {
         edge.point = old_count + e;
         PatchVertex& nv = next.verts[edge.point];
         if (!edge.valid) {
-            verts[edge.a].has_displacement = false;
-            verts[edge.b].has_displacement = false;
+            derived[edge.a].has_displacement = false;
+            derived[edge.b].has_displacement = false;
             continue;
         }
         nv.position = edge_point(scheme, edge);
         nv.has_position = true;
         const double d = glm::length(nv.position - (verts[edge.a].position + verts[edge.b].position) * 0.5);
-        verts[edge.a].displacement = std::max(verts[edge.a].displacement, d);
-        verts[edge.b].displacement = std::max(verts[edge.b].displacement, d);
+        derived[edge.a].displacement = std::max(derived[edge.a].displacement, d);
+        derived[edge.b].displacement = std::max(derived[edge.b].displacement, d);
     }
 
     // Each triangle becomes four, in the hierarchy's child order.
@@ -274,31 +277,28 @@ Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme) {
     return next;
 }
 
-void Patch::trim_to(const std::vector<bool>& keep) {
-    std::vector<std::uint32_t> remap(verts.size(), UINT32_MAX);
-    std::vector<PatchTriangle> kept;
-    kept.reserve(tris.size());
-    for (std::size_t t = 0; t < tris.size(); ++t)
-        if (keep[t]) kept.push_back(tris[t]);
-    std::vector<PatchVertex> kept_verts;
-    kept_verts.reserve(verts.size());
-    for (PatchTriangle& t : kept) {
-        for (std::uint32_t& v : t.v) {
+Patch Patch::copy_of(const Patch& src, const std::vector<bool>& keep) {
+    Patch out;
+    out.level = src.level;
+    std::vector<std::uint32_t> remap(src.verts.size(), UINT32_MAX);
+    for (std::size_t t = 0; t < src.tris.size(); ++t) {
+        if (!keep[t]) continue;
+        PatchTriangle tri = src.tris[t];
+        for (std::uint32_t& v : tri.v) {
             if (remap[v] == UINT32_MAX) {
-                remap[v] = static_cast<std::uint32_t>(kept_verts.size());
-                kept_verts.push_back(verts[v]);
+                remap[v] = static_cast<std::uint32_t>(out.verts.size());
+                out.verts.push_back(src.verts[v]);
             }
             v = remap[v];
         }
+        out.tris.push_back(tri);
     }
-    tris.swap(kept);
-    verts.swap(kept_verts);
-    rings.clear();
-    ring_nbrs.clear();
-    incident_offsets.clear();
-    incident_slots.clear();
-    edges.clear();
-    tri_edges.clear();
+    return out;
+}
+
+void Patch::trim_to(const std::vector<bool>& keep) {
+    // Derived data (rings, edges) refers to the old indices: rebuilt later.
+    *this = copy_of(*this, keep);
 }
 
 Patch base_patch(const BaseTopology& topo, std::uint32_t face) {

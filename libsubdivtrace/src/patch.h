@@ -24,18 +24,23 @@
 
 namespace subdivtrace::detail {
 
+/// What a patch keeps of a vertex between levels.
 struct PatchVertex {
     VertexKey key;
     Vec3 position{0.0};
-    Vec3 normal{0.0};  ///< Gouraud (angle-weighted) at the patch's level
-    Vec3 draw{0.0};    ///< where leaves draw it: Loop limit point, else position
+    Vec3 draw{0.0};  ///< where leaves draw it: Loop limit point, else position
     bool has_position = false;
-    bool has_ring = false;  ///< every incident triangle of the level is in the patch
-    bool has_normal = false;
     bool has_draw = false;
+};
+
+/// What finish() and subdivide() derive of a vertex at one level.
+struct VertexDerived {
+    Vec3 normal{0.0};  ///< Gouraud (angle-weighted) at the patch's level
     /// Largest distance of an edge point of the next level from its edge's
     /// midpoint, over the edges at this vertex (interpolating schemes' shells).
     double displacement = 0.0;
+    bool has_ring = false;  ///< every incident triangle of the level is in the patch
+    bool has_normal = false;
     bool has_displacement = false;
 };
 
@@ -59,6 +64,7 @@ public:
     int level = 0;
     std::vector<PatchVertex> verts;
     std::vector<PatchTriangle> tris;
+    std::vector<VertexDerived> derived;  ///< per vertex, after finish()
 
     /// Ordered (canonical) ring of vertex v: valid after finish() for
     /// vertices with has_ring.
@@ -83,10 +89,17 @@ public:
     /// at this level.
     void finish(const BaseTopology& topo, SchemeKind scheme);
 
-    /// Keeps the triangles with a vertex at most one ring from `in_region`
-    /// triangles' vertices (so their rings stay whole), drops the rest.
+    /// The triangles with a vertex at most one ring from `in_region`
+    /// triangles' vertices (so those vertices' rings are whole).
     template <class Pred>
-    void trim(Pred in_region);
+    std::vector<bool> band(Pred in_region) const;
+    /// Keeps band(in_region), drops the rest.
+    template <class Pred>
+    void trim(Pred in_region) {
+        trim_to(band(in_region));
+    }
+    /// A new patch holding only `src`'s triangles flagged in `keep`.
+    static Patch copy_of(const Patch& src, const std::vector<bool>& keep);
 
     /// The edge list (tri_edges) and per-vertex displacement of the next level,
     /// then the next level's patch (every triangle split 1-to-4). Values whose
@@ -121,7 +134,7 @@ inline bool key_less(const VertexKey& x, const VertexKey& y) {
 }
 
 template <class Pred>
-void Patch::trim(Pred in_region) {
+std::vector<bool> Patch::band(Pred in_region) const {
     // Distance 0: vertices of region triangles; 1: their ring neighbours.
     std::vector<std::uint8_t> dist(verts.size(), 2);
     for (const PatchTriangle& t : tris)
@@ -136,7 +149,7 @@ void Patch::trim(Pred in_region) {
         const auto& v = tris[t].v;
         keep[t] = dist[v[0]] <= 1 || dist[v[1]] <= 1 || dist[v[2]] <= 1;
     }
-    trim_to(keep);
+    return keep;
 }
 
 }  // namespace subdivtrace::detail

@@ -33,9 +33,10 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
     NodeRecord rec;
     for (int c = 0; c < 3; ++c) {
         const PatchVertex& v = p.verts[tri.v[c]];
-        if (!v.has_normal || !v.has_draw) stencil_cut("a corner's normal or drawn position");
+        const VertexDerived& d = p.derived[tri.v[c]];
+        if (!d.has_normal || !v.has_draw) stencil_cut("a corner's normal or drawn position");
         rec.position[c] = v.position;
-        rec.normal[c] = v.normal;
+        rec.normal[c] = d.normal;
         rec.draw_position[c] = v.draw;
     }
 
@@ -55,11 +56,21 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
     if (tri.id.level < ctx.max_level) {
         if (ctx.scheme == SchemeKind::loop) {
             // Loop's stencils are convex combinations, so every descendant
-            // (and limit point) lies in the hull of the corners' 1-rings.
+            // of a child (and every limit point it draws) lies in the hull of
+            // its corners' 1-rings one level down. Over the four children
+            // those rings are the corners' new positions and the edge points
+            // of every edge at a corner: half the reach of this level's rings.
             for (std::uint32_t v : tri.v) {
-                const Patch::Ring& r = p.rings[v];
-                for (std::uint32_t k = 0; k < r.count; ++k)
-                    shell.grow_both(p.verts[p.ring_nbrs[r.offset + k]].position);
+                shell.grow_both(next->verts[v].position);
+                for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
+                    const std::uint32_t slot = p.incident_slots[k];
+                    const std::uint32_t first = slot - slot % 3;
+                    for (std::uint32_t e : {slot, first + (slot % 3 + 2) % 3}) {
+                        const PatchEdge& edge = p.edges[p.tri_edges[e]];
+                        if (!edge.valid) stencil_cut("an edge point next to a corner");
+                        shell.grow_both(next->verts[edge.point].position);
+                    }
+                }
             }
         } else {
             // Interpolating: the children's edge points are exact; deeper
@@ -67,8 +78,8 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
             // the corners' neighbourhood, times a series factor.
             double max_displacement = 0.0;
             for (std::uint32_t v : tri.v) {
-                if (!p.verts[v].has_displacement) stencil_cut("an edge point next to a corner");
-                max_displacement = std::max(max_displacement, p.verts[v].displacement);
+                if (!p.derived[v].has_displacement) stencil_cut("an edge point next to a corner");
+                max_displacement = std::max(max_displacement, p.derived[v].displacement);
             }
             for (int e = 0; e < 3; ++e)
                 shell.grow_both(next->verts[p.edges[p.tri_edges[3 * t + e]].point].position);
@@ -140,7 +151,8 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch
     // The root's children and their border: cut from the parent tile's last
     // patch, or subdivided from the base triangles around the root.
     if (parent_patch) {
-        frontier_ = *parent_patch;
+        frontier_ = Patch::copy_of(*parent_patch,
+                                   parent_patch->band([&](const NodeId& id) { return in_tile(id); }));
     } else {
         Patch p = base_patch(ctx.topo, root.face);
         p.finish(ctx.topo, ctx.scheme);
@@ -168,11 +180,12 @@ void Tile::build_level(int j) {
     out.normal.resize(out.position.size());
     if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.position.size());
     out.shells.resize(n * n);
+    std::vector<Shell> shells(n * n);
     for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
         const PatchTriangle& tri = q.tris[t];
         if (!in_tile(tri.id)) continue;
         const NodeRecord rec = make_record(*ctx_, q, &next, t);
-        out.shells[index_in_level(tri.id)] = CompactShell::from(rec.shell);
+        shells[index_in_level(tri.id)] = rec.shell;
         const auto grid = node_corner_grid(tri.id);
         for (int c = 0; c < 3; ++c) {
             const std::size_t v = vertex_index(tri.id, grid[c][0], grid[c][1]);
@@ -181,6 +194,9 @@ void Tile::build_level(int j) {
             if (!out.draw.empty()) out.draw[v] = rec.draw_position[c];
         }
     }
+    // Shells relative to a point of the tile: its first grid point at level 1.
+    if (j == 1) origin_ = out.position[0];
+    for (std::size_t k = 0; k < shells.size(); ++k) out.shells[k] = CompactShell::from(shells[k], origin_);
     // Kept, cut to the tile's own triangles and their border: the next
     // level's start, and after the deepest level where child tiles start.
     next.trim([&](const NodeId& id) { return in_tile(id); });
@@ -207,7 +223,7 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
         rec.normal[c] = level.normal[v];
         rec.draw_position[c] = level.draw.empty() ? level.position[v] : level.draw[v];
     }
-    rec.shell = level.shells[index_in_level(id)].expand();
+    rec.shell = level.shells[index_in_level(id)].expand(origin_);
     return rec;
 }
 
@@ -239,6 +255,8 @@ std::size_t TileLevel::owned_bytes() const {
 
 namespace {
 
+constexpr float k_float_inf = std::numeric_limits<float>::infinity();
+
 float round_down(double x) {
     float f = static_cast<float>(x);
     if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
@@ -253,25 +271,36 @@ float round_up(double x) {
 
 }  // namespace
 
-CompactShell CompactShell::from(const Shell& s) {
+CompactShell CompactShell::from(const Shell& s, const Vec3& origin) {
+    // Relative to a nearby origin, so float keeps the detail of a mesh far
+    // from (0,0,0). One float step further out covers the double rounding of
+    // the subtraction.
+    const auto down = [](double x) { return std::nextafter(round_down(x), -k_float_inf); };
+    const auto up = [](double x) { return std::nextafter(round_up(x), k_float_inf); };
     CompactShell c;
     for (int a = 0; a < 3; ++a) {
-        c.lo[a] = round_down(s.lo[a]);
-        c.hi[a] = round_up(s.hi[a]);
+        c.lo[a] = down(s.lo[a] - origin[a]);
+        c.hi[a] = up(s.hi[a] - origin[a]);
         c.axis[a] = static_cast<float>(s.axis[a]);
     }
-    c.slab_min = round_down(s.slab_min);
-    c.slab_max = round_up(s.slab_max);
+    const double offset = glm::dot(s.axis, origin);
+    c.slab_min = down(s.slab_min - offset);
+    c.slab_max = up(s.slab_max - offset);
     return c;
 }
 
-Shell CompactShell::expand() const {
+Shell CompactShell::expand(const Vec3& origin) const {
     Shell s;
-    s.lo = Vec3(lo[0], lo[1], lo[2]);
-    s.hi = Vec3(hi[0], hi[1], hi[2]);
+    s.lo = origin + Vec3(lo[0], lo[1], lo[2]);
+    s.hi = origin + Vec3(hi[0], hi[1], hi[2]);
     s.axis = Vec3(axis[0], axis[1], axis[2]);
-    s.slab_min = slab_min;
-    s.slab_max = slab_max;
+    const double offset = glm::dot(s.axis, origin);
+    s.slab_min = offset + slab_min;
+    s.slab_max = offset + slab_max;
+    // The additions above round to nearest: pad by their error bound.
+    const Vec3 ao = glm::abs(origin);
+    s.pad(gamma_bound(4) * (std::max({ao.x, ao.y, ao.z}) + std::abs(offset)) +
+          gamma_bound(2) * std::max({glm::length(s.lo), glm::length(s.hi)}));
     return s;
 }
 
@@ -286,7 +315,7 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     shells_.resize(whole.tris.size());
     for (std::uint32_t f = 0; f < whole.tris.size(); ++f) {
         const NodeRecord rec = make_record(ctx, whole, &next, f);
-        shells_[f] = CompactShell::from(rec.shell);
+        shells_[f] = CompactShell::from(rec.shell, rec.position[0]);
         for (int c = 0; c < 3; ++c) {
             normal_[whole.tris[f].v[c]] = rec.normal[c];
             if (!draw_.empty()) draw_[whole.tris[f].v[c]] = rec.draw_position[c];
@@ -303,7 +332,7 @@ NodeRecord RootRecords::record(std::uint32_t face) const {
         rec.normal[c] = normal_[t[c]];
         rec.draw_position[c] = draw_.empty() ? rec.position[c] : draw_[t[c]];
     }
-    rec.shell = shells_[face].expand();
+    rec.shell = shells_[face].expand(rec.position[0]);
     return rec;
 }
 

@@ -32,8 +32,8 @@ struct TileContext {
     std::atomic<std::uint64_t>* records_built;
 };
 
-/// A shell stored in single precision, rounded outwards: what a ray reads of
-/// a node's bounds at 44 bytes instead of 88.
+/// A shell stored in single precision relative to an origin near it, rounded
+/// outwards: what a ray reads of a node's bounds at 44 bytes instead of 88.
 struct CompactShell {
     float lo[3];
     float hi[3];
@@ -43,8 +43,8 @@ struct CompactShell {
 
     /// `shell.axis` must already be a float-representable vector (make_record
     /// rounds it first), so the slab keeps its meaning.
-    static CompactShell from(const Shell& shell);
-    Shell expand() const;
+    static CompactShell from(const Shell& shell, const Vec3& origin);
+    Shell expand(const Vec3& origin) const;
 };
 
 /// One level of a tile: vertex values on the root's sub-grid of resolution
@@ -98,6 +98,7 @@ private:
     NodeId root_;
     int depth_ = 0;
     std::vector<TileLevel> levels_;
+    Vec3 origin_{0.0};  ///< shells are stored relative to it
     Patch frontier_;
     mutable std::mutex mutex_;
     mutable std::atomic<int> ready_{0};

@@ -73,20 +73,6 @@ namespace {
 /// confuse a destroyed surface with a new one at the same address.
 std::atomic<std::uint64_t> g_next_surface_id{1};
 
-/// A small direct-mapped cache of node records per thread, in front of the
-/// shared cache: neighbouring rays visit the same nodes, and this spares them
-/// the shared cache's lock and hash lookups. Records are deterministic, so a
-/// hit can never differ from what the shared cache would return.
-struct NodeL1 {
-    static constexpr std::size_t k_slots = 4096;
-    struct Slot {
-        std::uint64_t surface = 0;
-        NodeId id;
-        NodeRecord rec;
-    };
-    std::vector<Slot> slots = std::vector<Slot>(k_slots);
-};
-
 }  // namespace
 
 class SurfaceImpl {
@@ -240,21 +226,6 @@ struct Traversal {
         }
     }
 
-    /// The record of a node, by reference into this thread's front cache:
-    /// valid until the next call (which may reuse the slot).
-    const NodeRecord& node(const NodeId& id) {
-        thread_local NodeL1 l1;
-        const std::size_t h = (std::size_t{id.face} * 0x9E3779B1u) ^ (std::size_t{id.level} << 20) ^
-                              (std::size_t{id.i} * 0x85EBCA77u) ^ (std::size_t{id.j} * 0xC2B2AE3Du) ^
-                              (id.down ? 0x27D4EB2Fu : 0u);
-        NodeL1::Slot& slot = l1.slots[(h ^ (h >> 13)) % NodeL1::k_slots];
-        if (slot.surface == s.id && slot.id == id) return slot.rec;
-        slot.surface = s.id;
-        slot.id = id;
-        slot.rec = s.hierarchy.node(id);
-        return slot.rec;
-    }
-
     /// Starts the descent at a base triangle: its corners and edges are its own.
     void visit_root(std::uint32_t face) {
         const NodeId id = Hierarchy::root(face);
@@ -301,8 +272,6 @@ struct Traversal {
             const bool frozen_at_b = !refine[(e + 1) % 3];
             snap_to[e] = frozen_at_a || !frozen_at_b ? a : b;
         }
-        // Everything needed of this node's record is read before the first
-        // child is fetched, which may reuse the record's slot.
         const double thickness = rec.shell.thickness();
         struct Child {
             NodeId id;
@@ -312,10 +281,12 @@ struct Traversal {
             bool hit;
         };
         Child children[4];
+        std::array<NodeRecord, 4> child_recs;
+        s.hierarchy.children(id, child_recs);
         for (int c = 0; c < 4; ++c) {
             Child& ch = children[c];
             ch.id = child_of(id, c);
-            const NodeRecord& child_rec = node(ch.id);
+            const NodeRecord& child_rec = child_recs[c];
             const auto& map = child_corners(id.down, c);
             for (int k = 0; k < 3; ++k) {
                 const ChildCorner cc = map[k];
@@ -351,7 +322,7 @@ struct Traversal {
             Child& ch = children[order[k]];
             if (!ch.hit) break;
             if (!collect_all && !drawn_out && ch.t_entry > t_max) break;
-            visit(ch.id, node(ch.id), ch.drawn, ch.exists, thickness);
+            visit(ch.id, child_recs[order[k]], ch.drawn, ch.exists, thickness);
         }
     }
 };

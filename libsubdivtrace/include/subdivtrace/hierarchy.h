@@ -90,6 +90,10 @@ public:
     /// bit-identically).
     NodeRecord node(const NodeId& id) const;
 
+    /// The records of the four children of `id` (level < max_level), in
+    /// child_of order: one tile lookup for all four. Thread-safe.
+    void children(const NodeId& id, std::array<NodeRecord, 4>& out) const;
+
     HierarchyCounters counters() const;
 
 private:
