@@ -297,10 +297,10 @@ Shell CompactShell::expand(const Vec3& origin) const {
     const double offset = glm::dot(s.axis, origin);
     s.slab_min = offset + slab_min;
     s.slab_max = offset + slab_max;
-    // The additions above round to nearest: pad by their error bound.
-    const Vec3 ao = glm::abs(origin);
-    s.pad(gamma_bound(4) * (std::max({ao.x, ao.y, ao.z}) + std::abs(offset)) +
-          gamma_bound(2) * std::max({glm::length(s.lo), glm::length(s.hi)}));
+    // The additions above round to nearest: pad by their error bound (the
+    // sums of absolute values bound every coordinate and the slab offset).
+    const Vec3 ao = glm::abs(origin) + glm::max(glm::abs(s.lo), glm::abs(s.hi));
+    s.pad(gamma_bound(4) * (ao.x + ao.y + ao.z + std::abs(offset)));
     return s;
 }
 

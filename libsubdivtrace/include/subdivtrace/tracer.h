@@ -48,7 +48,7 @@ struct SurfaceOptions {
     /// Deepest level any ray may refine to (0 = the base mesh).
     int max_level = 8;
     /// Byte budget of the node cache, shared by all threads.
-    std::size_t cache_mb = 512;
+    std::size_t cache_mb = 64;
     View view;
     CrackRule crack_rule = CrackRule::snap_frozen_edges;
     /// Bounding volume the rays are culled against (docs/tracer.md measures both).
