@@ -76,7 +76,9 @@ public:
           roots(context),
           tiles(cache_bytes) {}
 
-    std::shared_ptr<const detail::Tile> tile(const NodeId& root) {
+    /// The tile rooted at `root`, from this thread's front: valid until this
+    /// thread's next call.
+    const detail::Tile* front_tile(const NodeId& root) {
         // A few tiles per thread in front of the shared cache: a ray's
         // neighbours descend through the same tiles, and this spares them the
         // shared cache's lock. Tiles never change once built, so a thread
@@ -95,11 +97,16 @@ public:
             front.owner = id;
         }
         auto& slot = front.slots[NodeKeyHash{}(root) % front.slots.size()];
-        if (slot.tile && slot.root == root) return slot.tile;
+        if (slot.tile && slot.root == root) return slot.tile.get();
+        std::shared_ptr<const detail::Tile> t = tile(root);
+        slot.root = root;
+        slot.tile = std::move(t);
+        return slot.tile.get();
+    }
+
+    std::shared_ptr<const detail::Tile> tile(const NodeId& root) {
         std::shared_ptr<const detail::Tile> t;
         if (!tiles.lookup(root, t)) t = build(root);
-        slot.root = root;
-        slot.tile = t;
         return t;
     }
 
@@ -137,14 +144,11 @@ bool Hierarchy::closed() const { return impl_->topo.closed(); }
 
 NodeRecord Hierarchy::node(const NodeId& id) const {
     if (id.level == 0) return impl_->roots.record(id.face);
-    return impl_->tile(detail::tile_root_of(id))->record(id);
+    return impl_->front_tile(detail::tile_root_of(id))->record(id);
 }
 
 void Hierarchy::children(const NodeId& id, std::array<NodeRecord, 4>& out) const {
-    const NodeId first = child_of(id, 0);
-    const auto tile = impl_->tile(detail::tile_root_of(first));
-    out[0] = tile->record(first);
-    for (int c = 1; c < 4; ++c) out[c] = tile->record(child_of(id, c));
+    impl_->front_tile(detail::tile_root_of(child_of(id, 0)))->children(id, out);
 }
 
 HierarchyCounters Hierarchy::counters() const {

@@ -214,6 +214,34 @@ std::size_t Tile::vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t
     return y * (n + 1) - y * (y - 1) / 2 + x;
 }
 
+void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const {
+    const int j = parent.level + 1 - root_.level;
+    if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
+    const TileLevel& level = levels_[j - 1];
+    // The six grid points of the children: the parent's corners and edge
+    // midpoints, at the children's level.
+    const auto g = node_corner_grid(parent);
+    const NodeId first = child_of(parent, 0);
+    std::size_t corner[3], mid[3];
+    for (int c = 0; c < 3; ++c) {
+        const int d = (c + 1) % 3;
+        corner[c] = vertex_index(first, 2 * g[c][0], 2 * g[c][1]);
+        mid[c] = vertex_index(first, g[c][0] + g[d][0], g[c][1] + g[d][1]);
+    }
+    for (int c = 0; c < 4; ++c) {
+        const NodeId child = c == 0 ? first : child_of(parent, c);
+        const auto& map = child_corners(parent.down, c);
+        NodeRecord& rec = out[c];
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t v = map[k].is_edge ? mid[map[k].index] : corner[map[k].index];
+            rec.position[k] = level.position[v];
+            rec.normal[k] = level.normal[v];
+            rec.draw_position[k] = level.draw.empty() ? level.position[v] : level.draw[v];
+        }
+        rec.shell = level.shells[index_in_level(child)].expand(origin_);
+    }
+}
+
 NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
     NodeRecord rec;
     const auto grid = node_corner_grid(id);

@@ -4,6 +4,7 @@
 // array kernels, and cached as one entry. A node's record is then found in
 // its tile by index arithmetic.
 
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <mutex>
@@ -77,6 +78,10 @@ public:
         if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
         return assemble(levels_[j - 1], id);
     }
+
+    /// The records of the four children of `parent` (whose children are in
+    /// this tile), in child_of order.
+    void children(const NodeId& parent, std::array<NodeRecord, 4>& out) const;
 
     /// The level below its deepest one (its triangles' children plus their
     /// border, not finished), where child tiles start; builds every level
