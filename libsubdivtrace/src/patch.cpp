@@ -129,6 +129,20 @@ std::size_t Patch::owned_bytes() const {
            edges.capacity() * sizeof(PatchEdge) + tri_edges.capacity() * sizeof(std::uint32_t);
 }
 
+namespace {
+
+/// True if edge e of grid triangle `id` lies on its base triangle's boundary.
+bool on_base_triangle_boundary(const NodeId& id, int e) {
+    const auto g = node_corner_grid(id);
+    const auto& p = g[e];
+    const auto& q = g[(e + 1) % 3];
+    const std::uint32_t n = std::uint32_t{1} << id.level;
+    return (p[0] == 0 && q[0] == 0) || (p[1] == 0 && q[1] == 0) ||
+           (p[0] + p[1] == n && q[0] + q[1] == n);
+}
+
+}  // namespace
+
 void Patch::build_edges() {
     // Every edge once, found through the incident triangles of its endpoint
     // (finish() built them): the triangles on edge (u, w) all meet u.
@@ -140,10 +154,15 @@ void Patch::build_edges() {
             if (tri_edges[3 * t + e] != k_unset) continue;
             const std::uint32_t u = tris[t].v[e], w = tris[t].v[(e + 1) % 3];
             const std::uint32_t id = static_cast<std::uint32_t>(edges.size());
+            // An edge inside a base triangle belongs to that triangle alone
+            // (its point is a face point): a duplicate base triangle over the
+            // same vertices has its own. Edges on a base edge are shared.
+            const bool on_base_edge = on_base_triangle_boundary(tris[t].id, e);
             PatchEdge edge;
             for (std::uint32_t k = incident_offsets[u]; k < incident_offsets[u + 1]; ++k) {
                 const std::uint32_t slot = incident_slots[k];
                 const PatchTriangle& other = tris[slot / 3];
+                if (!on_base_edge && other.id.face != tris[t].id.face) continue;
                 const std::uint32_t c = slot % 3;
                 std::uint32_t edge_slot;
                 if (other.v[(c + 1) % 3] == w) edge_slot = slot;                    // u -> w
