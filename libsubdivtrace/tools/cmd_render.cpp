@@ -10,13 +10,18 @@
 
 #include "cli_args.h"
 #include "commands.h"
-#include "image_out.h"
+#include "render/camera.h"
+#include "render/image_out.h"
+#include "render/render_loop.h"
+#include "render/rss.h"
+#include "render/uniform_scene.h"
 #include "subdivtrace/mesh_io.h"
-#include "subdivtrace/render.h"
 #include "subdivtrace/tracer.h"
 #include "subdivtrace/uniform.h"
 
 namespace subdivtrace::cli {
+
+using namespace subdivtrace::tools;
 
 namespace {
 
@@ -242,8 +247,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
         so.max_level = a.max_level;
         so.cache_mb = a.cache_mb;
         so.shell_kind = a.shell;
-        so.view.camera = cam.look_from;
-        so.view.pixel_angle = cam.pixel_angle();
+        so.view = cam.view();
         const AdaptiveSurface surface(std::move(mesh), so);
         build_seconds = seconds_since(build_start);
         image = render([&](const Ray& r, Hit& h) { return surface.intersect(r, h); }, cam, ro,
