@@ -437,6 +437,19 @@ def main():
                "nodes built vs uniform triangles", "total seconds"], rows, classes)
         summary[view] = (mrows, erows)
 
+        # The paper's Fig. 2: which level each pixel's leaf came from.
+        lv_png = os.path.join(out, view, "levels_t1.png")
+        lv_txt = os.path.join(out, view, "levels_t1.txt")
+        if os.path.exists(lv_png) and os.path.exists(lv_txt):
+            md.extend(["### Levels used at tolerance 1", ""])
+            h.append("<h3>Levels used at tolerance 1</h3>")
+            para("False colours by the subdivision level of the leaf each camera ray hit "
+                 "(subdivtrace render --color-by level, headlight shading only); legend:")
+            legend_text = open(lv_txt).read()
+            md.extend(["```", legend_text.rstrip("\n"), "```", ""])
+            h.append("<pre>%s</pre>" % html.escape(legend_text))
+            images([(lv_png, "leaf level per pixel, tolerance 1")])
+
         # Side by side: reference, adaptive tol 1, closest uniform; diff maps.
         a1 = [a for a in adaptive if a.param == 1.0] or adaptive[len(adaptive) // 2:][:1]
         if a1:

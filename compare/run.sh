@@ -10,6 +10,8 @@
 #             (64 MB), and tolerance 1 with a 16 MB cache (lowmem_t1)
 #   uniform   levels 0..6 (--quick: 0..4); a level whose memory, extrapolated
 #             from the level before (x4), would exceed ~6 GB is skipped
+#   levels_t1 tolerance 1 in false colours by leaf level (render --color-by
+#             level), legend in levels_t1.txt
 # Shadows on, default light, same camera for all. Every render writes a PNG and
 # its --stats-json next to it in BUILD_DIR/compare/<view>/. Then, if the
 # patched POV-Ray exists (BUILD_DIR/povray/src/unix/povray, or $POVRAY), a
@@ -132,9 +134,26 @@ EOF
     return 1
 }
 
+# levels VIEW: the paper's Fig. 2, the level of the leaf each pixel hit at
+# tolerance 1 (render --color-by level), legend in levels_t1.txt.
+levels() {
+    local view=$1 dir="$out/$1"
+    mkdir -p "$dir"
+    if [[ $reuse == 1 && -s "$dir/levels_t1.png" && -s "$dir/levels_t1.txt" ]]; then
+        echo "[$(elapsed)] $view/levels_t1: reused"
+        return 0
+    fi
+    # shellcheck disable=SC2086
+    "$cli" render "$mesh" -o "$dir/levels_t1.png" "${size[@]}" ${camera[$view]} --tolerance 1 \
+        --max-level "$ref_level" --cache-mb "$cache_mb" --color-by level --quiet \
+        > "$dir/levels_t1.txt" 2> "$dir/levels_t1.log"
+    echo "[$(elapsed)] $view/levels_t1: $(grep 'mean level' "$dir/levels_t1.txt" | sed 's/^ *//')"
+}
+
 for view in "${views[@]}"; do
     echo "== view $view (${camera[$view]:-default camera})"
     render "$view" ref --tolerance "$ref_tol" --max-level "$ref_level" --cache-mb "$cache_mb"
+    levels "$view"
     for t in "${tolerances[@]}"; do
         render "$view" "adaptive_t$t" --tolerance "$t" --max-level "$ref_level" --cache-mb "$cache_mb"
     done

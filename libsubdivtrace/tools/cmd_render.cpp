@@ -42,6 +42,8 @@ const char* k_render_help =
     "  --shell K                  bounding shells: slab (box and normal slab) | aabb (slab)\n"
     "  --light X,Y,Z              point light (default: above right of the camera)\n"
     "  --no-shadows               no shadow rays\n"
+    "  --color-by level|face      false colours: the level of the leaf each pixel hit,\n"
+    "                             or its base triangle; a legend goes to stdout\n"
     "  --stats-json FILE          write timings and work counters as JSON\n"
     "  --quiet                    no progress output\n";
 
@@ -64,6 +66,7 @@ struct RenderArgs {
     Vec3 light{0.0};
     bool shadows = true;
     bool quiet = false;
+    ColorBy color_by = ColorBy::shading;
 };
 
 double parse_number(const std::string& option, const std::string& text) {
@@ -134,6 +137,11 @@ RenderArgs parse_render_args(const Args& args, bool needs_output) {
             else throw UsageError{"--shell must be slab or aabb"};
         } else if (a == "--light") r.light = parse_vec3(a, value()), r.has_light = true;
         else if (a == "--no-shadows") r.shadows = false;
+        else if (a == "--color-by") {
+            const auto c = parse_color_by(value());
+            if (!c) throw UsageError{"--color-by must be level or face"};
+            r.color_by = *c;
+        }
         else if (a == "--stats-json") r.stats_json = value();
         else if (a == "--quiet") r.quiet = true;
         else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + a};
@@ -216,6 +224,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
     ro.has_light = a.has_light;
     ro.light = a.light;
     ro.progress = !a.quiet;
+    ro.color_by = a.color_by;
     RenderStats rs;
     Image image;
     double build_seconds = 0.0;
@@ -259,6 +268,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
     }
     if (write_png) {
         write_image(a.output, image);
+        if (a.color_by != ColorBy::shading) std::fputs(legend(a.color_by, rs.tally).c_str(), stdout);
         if (!a.quiet)
             std::fprintf(stderr, "wrote %s (%dx%d, build %.2f s, trace %.2f s)\n",
                          a.output.c_str(), a.width, a.height, build_seconds, rs.trace_seconds);

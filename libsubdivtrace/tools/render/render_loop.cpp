@@ -43,6 +43,20 @@ Vec3 shade(const IntersectFn& intersect, const Ray& ray, const Hit& hit, const V
     return k_albedo * (0.08 + 0.45 * headlight + 0.55 * direct);
 }
 
+/// The false colour of a hit (ColorBy::level or face), lit by the headlight only.
+Vec3 false_colour(ColorBy mode, const Ray& ray, const Hit& hit) {
+    const double headlight = std::abs(glm::dot(hit.normal, glm::normalize(ray.direction)));
+    const Vec3 base = mode == ColorBy::level ? level_colour(hit.level) : face_colour(hit.base_face);
+    return base * (0.3 + 0.7 * headlight);
+}
+
+void count_pixel(ColorBy mode, const Hit& hit, PixelTally& tally) {
+    const std::size_t level = static_cast<std::size_t>(std::max(hit.level, 0));
+    if (tally.level_pixels.size() <= level) tally.level_pixels.resize(level + 1, 0);
+    ++tally.level_pixels[level];
+    if (mode == ColorBy::face) ++tally.face_pixels[hit.base_face];
+}
+
 }  // namespace
 
 Image render(const IntersectFn& intersect, const Camera& camera, const RenderOptions& options,
@@ -70,7 +84,10 @@ Image render(const IntersectFn& intersect, const Camera& camera, const RenderOpt
                 Vec3 colour = k_background;
                 if (intersect(ray, hit)) {
                     ++local.hit_pixels;
-                    colour = shade(intersect, ray, hit, light, options.shadows, local);
+                    count_pixel(options.color_by, hit, local.tally);
+                    colour = options.color_by == ColorBy::shading
+                                 ? shade(intersect, ray, hit, light, options.shadows, local)
+                                 : false_colour(options.color_by, ray, hit);
                 }
                 float* px = &image.rgb[(std::size_t(y) * camera.width + x) * 3];
                 px[0] = static_cast<float>(colour.x);
@@ -107,6 +124,7 @@ Image render(const IntersectFn& intersect, const Camera& camera, const RenderOpt
         stats.rays += s.rays;
         stats.shadow_rays += s.shadow_rays;
         stats.hit_pixels += s.hit_pixels;
+        stats.tally.add(s.tally);
     }
     return image;
 }

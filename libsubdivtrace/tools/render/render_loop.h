@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "render/camera.h"
+#include "render/false_colour.h"
 #include "subdivtrace/tracer.h"
 
 namespace subdivtrace::tools {
@@ -18,6 +19,8 @@ struct RenderOptions {
     bool has_light = false;      ///< false: default_light()
     Vec3 light{0.0};
     bool progress = false;       ///< progress on stderr for renders over a second
+    /// False colours instead of shading (headlight only, no shadow rays).
+    ColorBy color_by = ColorBy::shading;
 };
 
 struct Image {
@@ -31,6 +34,8 @@ struct RenderStats {
     std::uint64_t rays = 0;         ///< camera + shadow rays
     std::uint64_t shadow_rays = 0;
     std::uint64_t hit_pixels = 0;
+    /// Pixels per leaf level (always) and per base face (ColorBy::face only).
+    PixelTally tally;
 };
 
 /// Anything that can intersect a ray: the adaptive surface or a uniform mesh.
