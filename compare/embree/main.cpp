@@ -48,21 +48,12 @@ Args parse_args(const std::vector<std::string>& args) {
     for (std::size_t k = 0; k < args.size(); ++k) {
         if (parse_view_option(args, k, r.view)) continue;
         const std::string& a = args[k];
-        auto value = [&]() -> const std::string& {
-            if (k + 1 >= args.size()) throw UsageError{a + " needs a value"};
-            return args[++k];
-        };
-        if (a == "--uniform") r.uniform = parse_int(a, value(), 0, k_max_uniform_levels);
+        if (a == "--uniform") r.uniform = parse_int(a, option_value(args, k), 0, k_max_uniform_levels);
         else if (a == "--subdiv-pixels") {
-            r.subdiv_pixels = parse_number(a, value());
+            r.subdiv_pixels = parse_number(a, option_value(args, k));
             if (!(r.subdiv_pixels > 0.0)) throw UsageError{"--subdiv-pixels must be positive"};
-        } else if (a == "--scheme") {
-            const auto s = parse_scheme(value());
-            if (!s) throw UsageError{"--scheme must be normal, loop or butterfly"};
-            r.scheme = *s;
-        } else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + a};
-        else if (r.mesh.empty()) r.mesh = a;
-        else throw UsageError{"more than one mesh given ('" + r.mesh + "', '" + a + "')"};
+        } else if (a == "--scheme") r.scheme = parse_scheme_option(option_value(args, k));
+        else take_mesh_argument(a, r.mesh);
     }
     if (r.mesh.empty()) throw UsageError{"no mesh given"};
     if (r.view.output.empty()) throw UsageError{"no output given (-o OUT.png)"};

@@ -57,33 +57,24 @@ RenderArgs parse_render_args(const Args& args, bool needs_output) {
     for (std::size_t k = 0; k < args.size(); ++k) {
         if (parse_view_option(args, k, r.view)) continue;
         const std::string& a = args[k];
-        auto value = [&]() -> const std::string& {
-            if (k + 1 >= args.size()) throw UsageError{a + " needs a value"};
-            return args[++k];
-        };
-        if (a == "--scheme") {
-            const auto s = parse_scheme(value());
-            if (!s) throw UsageError{"--scheme must be normal, loop or butterfly"};
-            r.scheme = *s;
-        } else if (a == "--tolerance") {
+        auto value = [&]() -> const std::string& { return option_value(args, k); };
+        if (a == "--scheme") r.scheme = parse_scheme_option(value());
+        else if (a == "--tolerance") {
             r.tolerance = parse_number(a, value());
             if (!(r.tolerance > 0.0)) throw UsageError{"--tolerance must be positive"};
         } else if (a == "--max-level") r.max_level = parse_int(a, value(), 0, k_max_level_cap);
         else if (a == "--uniform") r.uniform = parse_int(a, value(), 0, k_max_uniform_levels);
         else if (a == "--cache-mb") r.cache_mb = static_cast<std::size_t>(parse_int(a, value(), 1, 1 << 20));
         else if (a == "--shell") {
-            const std::string& k = value();
-            if (k == "slab") r.shell = ShellKind::aabb_slab;
-            else if (k == "aabb") r.shell = ShellKind::aabb;
+            const std::string& kind = value();
+            if (kind == "slab") r.shell = ShellKind::aabb_slab;
+            else if (kind == "aabb") r.shell = ShellKind::aabb;
             else throw UsageError{"--shell must be slab or aabb"};
         } else if (a == "--color-by") {
             const auto c = parse_color_by(value());
             if (!c) throw UsageError{"--color-by must be level or face"};
             r.color_by = *c;
-        }
-        else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + a};
-        else if (r.mesh.empty()) r.mesh = a;
-        else throw UsageError{"more than one mesh given ('" + r.mesh + "', '" + a + "')"};
+        } else take_mesh_argument(a, r.mesh);
     }
     if (r.mesh.empty()) throw UsageError{"no mesh given"};
     if (needs_output && r.view.output.empty()) throw UsageError{"no output given (-o OUT.png)"};

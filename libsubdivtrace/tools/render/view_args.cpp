@@ -57,12 +57,26 @@ Vec3 parse_vec3(const std::string& option, const std::string& text) {
     return Vec3(v[0], v[1], v[2]);
 }
 
+const std::string& option_value(const std::vector<std::string>& args, std::size_t& k) {
+    if (k + 1 >= args.size()) throw UsageError{args[k] + " needs a value"};
+    return args[++k];
+}
+
+SchemeKind parse_scheme_option(const std::string& text) {
+    const auto s = parse_scheme(text);
+    if (!s) throw UsageError{"--scheme must be normal, loop or butterfly"};
+    return *s;
+}
+
+void take_mesh_argument(const std::string& arg, std::string& mesh) {
+    if (!arg.empty() && arg[0] == '-') throw UsageError{"unknown option " + arg};
+    if (!mesh.empty()) throw UsageError{"more than one mesh given ('" + mesh + "', '" + arg + "')"};
+    mesh = arg;
+}
+
 bool parse_view_option(const std::vector<std::string>& args, std::size_t& k, ViewArgs& r) {
     const std::string& a = args[k];
-    auto value = [&]() -> const std::string& {
-        if (k + 1 >= args.size()) throw UsageError{a + " needs a value"};
-        return args[++k];
-    };
+    auto value = [&]() -> const std::string& { return option_value(args, k); };
     if (a == "-o" || a == "--output") r.output = value();
     else if (a == "--width") r.width = parse_int(a, value(), 1, 16384);
     else if (a == "--height") r.height = parse_int(a, value(), 1, 16384);

@@ -9,6 +9,7 @@
 
 #include "render/camera.h"
 #include "render/render_loop.h"
+#include "subdivtrace/scheme.h"
 
 namespace subdivtrace::tools {
 
@@ -23,6 +24,14 @@ double parse_number(const std::string& option, const std::string& text);
 int parse_int(const std::string& option, const std::string& text, int lo, int hi);
 /// Parses "X,Y,Z"; throws UsageError naming `option`.
 Vec3 parse_vec3(const std::string& option, const std::string& text);
+
+/// The value after option args[k], advancing k; throws UsageError if none.
+const std::string& option_value(const std::vector<std::string>& args, std::size_t& k);
+/// The value of --scheme; throws UsageError unless normal, loop or butterfly.
+SchemeKind parse_scheme_option(const std::string& text);
+/// A positional argument is the mesh (only one); "-..." is an unknown option.
+/// Throws UsageError for either mistake.
+void take_mesh_argument(const std::string& arg, std::string& mesh);
 
 struct ViewArgs {
     std::string output;      ///< -o
