@@ -3,8 +3,8 @@
 
 usage: /usr/bin/python3 compare/report.py BUILD_DIR/compare
 
-Reads <view>/{ref,adaptive_t*,uniform_l*}.{png,json} (and povray/*.png, *.log
-if present), writes diff_*.png heat maps next to the renders, plot_*.png,
+Reads <view>/{ref,adaptive_t*,uniform_l*,embree_*}.{png,json} (and
+povray/*.png, *.log if present), writes diff_*.png heat maps next to the renders, plot_*.png,
 results.csv, report.md and report.html into the same directory.
 
 Image error: RGB in [0, 1]; RMSE over all pixels and channels; max = the
@@ -79,10 +79,17 @@ class Run:
         elif name.startswith("uniform_l"):
             self.kind, self.param = "uniform", int(name[len("uniform_l"):])
             self.label = "level %d" % self.param
+        elif name.startswith("embree_uniform_l"):
+            self.kind, self.param = "embree_uniform", int(name[len("embree_uniform_l"):])
+            self.label = "Embree BVH, level %d" % self.param
+        elif name.startswith("embree_subdiv_p"):
+            self.kind, self.param = "embree_subdiv", float(name[len("embree_subdiv_p"):])
+            self.label = "Embree Catmull-Clark, %g px" % self.param
         else:
             self.kind, self.param = "ref", self.s.get("tolerance")
             self.label = "reference (tol %g, max level %d)" % (self.s["tolerance"], self.s["max_level"])
         self.rmse = self.maxdiff = float("nan")
+        self.rmse_own = float("nan")  # Embree subdivision: against its own finest render
         self.diff_png = None
 
     def __getattr__(self, key):
@@ -94,7 +101,7 @@ class Run:
     @property
     def work(self):
         """Nodes built (adaptive) or uniform triangles (uniform)."""
-        if self.kind == "uniform":
+        if self.kind in ("uniform", "embree_uniform"):
             return int(self.s.get("uniform_triangles_at_deepest_level") or 0)
         return int(self.s.get("nodes_built") or 0)
 
@@ -108,7 +115,8 @@ def load_view(out, view):
     runs = []
     for j in sorted(glob.glob(os.path.join(d, "adaptive_t*.json"))) + sorted(
             glob.glob(os.path.join(d, "lowmem_t*.json"))) + sorted(
-            glob.glob(os.path.join(d, "uniform_l*.json"))):
+            glob.glob(os.path.join(d, "uniform_l*.json"))) + sorted(
+            glob.glob(os.path.join(d, "embree_*.json"))):
         name = os.path.basename(j)[:-5]
         if not os.path.exists(os.path.join(d, name + ".png")):
             continue
@@ -120,7 +128,15 @@ def load_view(out, view):
     adaptive = sorted([r for r in runs if r.kind == "adaptive"], key=lambda r: -r.param)
     uniform = sorted([r for r in runs if r.kind == "uniform"], key=lambda r: r.param)
     lowmem = [r for r in runs if r.kind == "lowmem"]
-    return ref, adaptive, uniform, lowmem
+    e_uniform = sorted([r for r in runs if r.kind == "embree_uniform"], key=lambda r: r.param)
+    e_subdiv = sorted([r for r in runs if r.kind == "embree_subdiv"], key=lambda r: -r.param)
+    # Embree's Catmull-Clark is another surface: its error is measured against
+    # its own finest render (the last one), not against our reference.
+    if e_subdiv:
+        own_ref = load_rgb(e_subdiv[-1].png)
+        for r in e_subdiv:
+            r.rmse_own = image_error(load_rgb(r.png), own_ref)[0]
+    return ref, adaptive, uniform, lowmem, e_uniform, e_subdiv
 
 
 def closest(uniform, a):
@@ -139,12 +155,18 @@ def cheapest_at_most(uniform, a):
     return None
 
 
-def plot_view(out, view, adaptive, uniform, lowmem, x_key, x_label, path):
+def plot_view(out, view, adaptive, uniform, lowmem, x_key, x_label, path, e_uniform=(), e_subdiv=()):
     fig, ax = plt.subplots(figsize=(6.4, 4.6), dpi=100)
-    for runs, style, name in ((adaptive, "o-", "adaptive (tolerance, px)"),
-                              (uniform, "s--", "uniform subdivision + BVH (level)")):
+    own = [r for r in e_subdiv if r.rmse_own > 0]
+    for runs, style, name, err in (
+            (adaptive, "o-", "adaptive (tolerance, px)", "rmse"),
+            (uniform, "s--", "uniform subdivision + BVH (level)", "rmse"),
+            (e_uniform, "^-.", "uniform level in Embree's BVH (level)", "rmse"),
+            (own, "D:", "Embree Catmull-Clark (px/segment; RMSE vs its own finest)", "rmse_own")):
+        if not runs:
+            continue
         xs = [getattr(r, x_key) for r in runs]
-        ys = [r.rmse for r in runs]
+        ys = [getattr(r, err) for r in runs]
         ax.plot(xs, ys, style, label=name)
         for r, x, y in zip(runs, xs, ys):
             ax.annotate(("%g" % r.param), (x, y), textcoords="offset points", xytext=(5, 4), fontsize=8)
@@ -156,7 +178,7 @@ def plot_view(out, view, adaptive, uniform, lowmem, x_key, x_label, path):
     ax.set_ylabel("image RMSE vs reference (RGB in [0,1])")
     ax.set_title("%s view: error vs %s" % (view, x_label.split(" (")[0]))
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
@@ -201,6 +223,63 @@ def match_rows(adaptive, uniform):
             "nodes": ratio(a.work, u.work),
         })
     return rows
+
+
+def embree_tables(view, adaptive, uniform, e_uniform, e_subdiv, para, table):
+    """Embree beside ours: the same uniform mesh in both BVHs, and Embree's own
+    subdivision against the adaptive tracer at equal edge length."""
+    if e_uniform:
+        para("Same uniform mesh (our subdivision, same level), our BVH vs Embree's: ratios "
+             "ours / Embree. Both start the clock before the mesh is read, so build includes "
+             "the uniform subdivision itself. Memory above baseline: each process's peak RSS "
+             "minus its RSS before the mesh was read.")
+        rows = []
+        for e in e_uniform:
+            u = [u for u in uniform if u.param == e.param]
+            if not u:
+                continue
+            u = u[0]
+            rows.append([u.label, fmt(u.rmse), fmt(e.rmse), fmt(u.total_seconds), fmt(e.total_seconds),
+                         fmt(ratio(u.total_seconds, e.total_seconds)),
+                         fmt(ratio(u.trace_seconds, e.trace_seconds)),
+                         fmt(u.s.get("peak_rss_above_baseline_mb")),
+                         fmt(e.s.get("peak_rss_above_baseline_mb"))])
+        table(["level", "RMSE ours", "RMSE Embree", "total s ours", "total s Embree",
+               "total ratio", "trace ratio", "MB above baseline ours", "MB above baseline Embree"], rows)
+    if e_subdiv:
+        para("At equal edge length: the adaptive tracer at tolerance T (an edge is refined while "
+             "longer than T pixels) against Embree's Catmull-Clark subdivision with every base "
+             "edge cut into segments of at most T pixels (edge levels from the distance to the "
+             "camera, the whole mesh tessellated, no view culling). The surfaces differ (Embree's "
+             "is Catmull-Clark's limit surface, ours the normal scheme's), so this compares cost "
+             "at equal edge length, not at equal error. Ratios adaptive / Embree; 'uniform level "
+             "as fine' is the lowest uniform level whose edges are as short (the adaptive "
+             "render's deepest level), for scale.")
+        rows, classes = [], []
+        for e in e_subdiv:
+            a = [a for a in adaptive if a.param == e.param]
+            if not a:
+                continue
+            a = a[0]
+            ua = a.s.get("peak_rss_above_baseline_mb") or 0.0
+            ea = e.s.get("peak_rss_above_baseline_mb") or 0.0
+            deepest = a.s.get("deepest_level")
+            ul = [u for u in uniform if u.param == deepest]
+            t_ratio = ratio(a.total_seconds, e.total_seconds)
+            m_ratio = ratio(ua, ea)
+            rows.append(["%g px" % e.param, fmt(a.total_seconds), fmt(e.total_seconds), fmt(t_ratio),
+                         fmt(ratio(a.trace_seconds, e.trace_seconds)),
+                         fmt(ua), fmt(ea), fmt(m_ratio),
+                         "%s, mean %s max %s" % (fmt(e.s.get("embree_peak_bytes", 0) / 1048576.0),
+                                                 fmt(e.s.get("mean_edge_level")),
+                                                 fmt(e.s.get("max_edge_level"))),
+                         ("level %s: %s s" % (deepest, fmt(ul[0].total_seconds))) if ul else "-"])
+            classes.append(["", "", "", "good" if t_ratio <= 1 else "bad", "", "", "",
+                            "good" if m_ratio <= 1 else "bad", "", ""])
+        table(["segment / tolerance", "adaptive total s", "Embree total s", "total ratio",
+               "trace ratio", "adaptive MB above baseline", "Embree MB above baseline",
+               "memory ratio", "Embree MB (its allocator), edge levels", "uniform level as fine"],
+              rows, classes)
 
 
 # --- POV-Ray ------------------------------------------------------------------
@@ -294,14 +373,14 @@ def main():
                 k, v = line.rstrip("\n").split("=", 1)
                 info[k] = v
 
-    md = ["# Adaptive tracer vs uniform subdivision", ""]
+    md = ["# Adaptive tracer vs uniform subdivision and Embree", ""]
     h = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>subdivtrace compare</title>",
          "<style>body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em}"
          "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;padding:2px 6px;"
          "text-align:right}th{background:#eee}img{border:1px solid #888;margin:2px}"
          "figure{display:inline-block;margin:4px}figcaption{font-size:small}"
          ".good{background:#dfd}.bad{background:#fdd}</style></head><body>",
-         "<h1>Adaptive tracer vs uniform subdivision</h1>"]
+         "<h1>Adaptive tracer vs uniform subdivision and Embree</h1>"]
 
     def para(text):
         md.extend([text, ""])
@@ -347,7 +426,7 @@ def main():
         loaded = load_view(out, view)
         if loaded is None:
             continue
-        ref, adaptive, uniform, lowmem = loaded
+        ref, adaptive, uniform, lowmem, e_uniform, e_subdiv = loaded
         title = VIEW_TITLES.get(view, view)
         md.extend(["## %s" % title, ""])
         h.append("<h2>%s</h2>" % html.escape(title))
@@ -357,16 +436,21 @@ def main():
 
         p_time = os.path.join(out, "plot_%s_time.png" % view)
         p_mem = os.path.join(out, "plot_%s_memory.png" % view)
-        plot_view(out, view, adaptive, uniform, lowmem, "total_seconds", "total seconds (build + trace)", p_time)
-        plot_view(out, view, adaptive, uniform, lowmem, "peak_rss_mb", "peak RSS (MB)", p_mem)
+        plot_view(out, view, adaptive, uniform, lowmem, "total_seconds", "total seconds (build + trace)",
+                  p_time, e_uniform, e_subdiv)
+        plot_view(out, view, adaptive, uniform, lowmem, "peak_rss_mb", "peak RSS (MB)", p_mem,
+                  e_uniform, e_subdiv)
         images([(p_time, "RMSE vs total time"), (p_mem, "RMSE vs peak memory")])
 
         md.extend(["### All renders", ""])
         h.append("<h3>All renders</h3>")
         rows = []
-        for r in [ref] + adaptive + lowmem + uniform:
+        for r in [ref] + adaptive + lowmem + uniform + e_uniform + e_subdiv:
+            rmse = fmt(r.rmse, 3) if r.kind != "ref" else "0"
+            if r.kind == "embree_subdiv":
+                rmse = "%s (own: %s)" % (rmse, fmt(r.rmse_own, 3))
             rows.append([r.kind, r.label if r.kind != "ref" else "reference",
-                         fmt(r.rmse, 3) if r.kind != "ref" else "0", fmt(r.maxdiff, 3) if r.kind != "ref" else "0",
+                         rmse, fmt(r.maxdiff, 3) if r.kind != "ref" else "0",
                          fmt(r.total_seconds), fmt(r.build_seconds), fmt(r.trace_seconds),
                          fmt(r.rays_per_second / 1e6, 3), fmt(r.peak_rss_mb),
                          fmt(r.work), fmt(r.s.get("nodes_visited_per_ray")),
@@ -376,9 +460,18 @@ def main():
                              "build_s": r.build_seconds, "trace_s": r.trace_seconds,
                              "rays_per_s": r.rays_per_second, "peak_rss_mb": r.peak_rss_mb,
                              "nodes_or_triangles": r.work, "rays": r.rays,
-                             "deepest_level": r.s.get("deepest_level")})
+                             "deepest_level": r.s.get("deepest_level"),
+                             "peak_above_baseline_mb": r.s.get("peak_rss_above_baseline_mb"),
+                             "rmse_own_surface": r.rmse_own})
         table(["kind", "setting", "RMSE", "max diff", "total s", "build s", "trace s", "Mrays/s",
                "peak MB", "nodes built / uniform tris", "nodes visited/ray", "deepest level"], rows)
+        if e_subdiv:
+            para("Embree Catmull-Clark renders: RMSE against our reference measures mostly the "
+                 "difference between the two surfaces (Catmull-Clark's limit surface is not the "
+                 "normal scheme's); 'own' is against Embree's own finest render (%s)."
+                 % e_subdiv[-1].label)
+        if e_uniform or e_subdiv:
+            embree_tables(view, adaptive, uniform, e_uniform, e_subdiv, para, table)
 
         md.extend(["### Adaptive vs uniform at matching image error", ""])
         h.append("<h3>Adaptive vs uniform at matching image error</h3>")
@@ -437,6 +530,19 @@ def main():
                "nodes built vs uniform triangles", "total seconds"], rows, classes)
         summary[view] = (mrows, erows)
 
+        # The paper's Fig. 2: which level each pixel's leaf came from.
+        lv_png = os.path.join(out, view, "levels_t1.png")
+        lv_txt = os.path.join(out, view, "levels_t1.txt")
+        if os.path.exists(lv_png) and os.path.exists(lv_txt):
+            md.extend(["### Levels used at tolerance 1", ""])
+            h.append("<h3>Levels used at tolerance 1</h3>")
+            para("False colours by the subdivision level of the leaf each camera ray hit "
+                 "(subdivtrace render --color-by level, headlight shading only); legend:")
+            legend_text = open(lv_txt).read()
+            md.extend(["```", legend_text.rstrip("\n"), "```", ""])
+            h.append("<pre>%s</pre>" % html.escape(legend_text))
+            images([(lv_png, "leaf level per pixel, tolerance 1")])
+
         # Side by side: reference, adaptive tol 1, closest uniform; diff maps.
         a1 = [a for a in adaptive if a.param == 1.0] or adaptive[len(adaptive) // 2:][:1]
         if a1:
@@ -449,6 +555,10 @@ def main():
             if u1:
                 items.append((u1.png, "uniform %s (RMSE %s, %s s, %s MB)"
                               % (u1.label, fmt(u1.rmse), fmt(u1.total_seconds), fmt(u1.peak_rss_mb))))
+            e1 = [e for e in e_subdiv if e.param == a1.param]
+            if e1:
+                items.append((e1[0].png, "%s (Catmull-Clark, %s s, %s MB)"
+                              % (e1[0].label, fmt(e1[0].total_seconds), fmt(e1[0].peak_rss_mb))))
             images(items)
             items = [(a1.diff_png, "|adaptive %s - reference|, max %s" % (a1.label, fmt(a1.maxdiff)))]
             if u1:

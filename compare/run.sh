@@ -10,6 +10,13 @@
 #             (64 MB), and tolerance 1 with a 16 MB cache (lowmem_t1)
 #   uniform   levels 0..6 (--quick: 0..4); a level whose memory, extrapolated
 #             from the level before (x4), would exceed ~6 GB is skipped
+#   levels_t1 tolerance 1 in false colours by leaf level (render --color-by
+#             level), legend in levels_t1.txt
+#   embree    if BUILD_DIR/bin/embree_render exists (Embree 3 found at build
+#             time): the uniform levels in Embree's BVH (embree_uniform_l*),
+#             and Embree's Catmull-Clark subdivision of the base mesh with
+#             edges cut into 4 2 1 0.5 px segments (embree_subdiv_p*; 0.5 px
+#             is its own reference)
 # Shadows on, default light, same camera for all. Every render writes a PNG and
 # its --stats-json next to it in BUILD_DIR/compare/<view>/. Then, if the
 # patched POV-Ray exists (BUILD_DIR/povray/src/unix/povray, or $POVRAY), a
@@ -20,7 +27,8 @@
 # --reuse   keep renders whose JSON already exists (re-run the report only)
 # --no-povray  skip the POV-Ray sweep
 # Environment: SUBDIVTRACE_CLI (default BUILD_DIR/bin/subdivtrace), POVRAY
-# (default BUILD_DIR/povray/src/unix/povray).
+# (default BUILD_DIR/povray/src/unix/povray), EMBREE_RENDER (default
+# BUILD_DIR/bin/embree_render).
 set -euo pipefail
 
 usage() { echo "usage: compare/run.sh BUILD_DIR [--quick] [--reuse] [--no-povray]" >&2; exit 2; }
@@ -41,6 +49,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 repo=$(dirname "$here")
 cli="${SUBDIVTRACE_CLI:-$build/bin/subdivtrace}"
 [[ -x "$cli" ]] || { echo "no CLI at $cli (build the subdivtrace_cli target)" >&2; exit 1; }
+embree="${EMBREE_RENDER:-$build/bin/embree_render}"
+[[ -x "$embree" ]] || embree=""
 py=/usr/bin/python3
 mesh="$repo/data/blob5k.obj"
 out="$build/compare"
@@ -65,6 +75,9 @@ else
     pov_levels=(0 1 2 3 4)
     pov_ref_tol=0.5
 fi
+# Embree's subdivision: pixels per tessellated segment of a base edge (the
+# finest is its own reference image).
+embree_pixels=(4 2 1 0.5)
 mem_limit_mb=6000
 # Node cache budget of the adaptive renders (MB). The CLI's default is 512; the
 # cache reserves its budget up front, so peak RSS follows the budget, not the
@@ -95,16 +108,20 @@ declare -A camera=(
     echo "cli=$cli"
     for v in "${views[@]}"; do echo "camera_$v=${camera[$v]}"; done
     echo "cache_mb=$cache_mb (lowmem_t1: $lowmem_cache_mb)"
+    echo "embree=${embree:-none} ($(dpkg-query -W -f='libembree-dev ${Version}' libembree-dev 2>/dev/null || echo 'libembree-dev not installed'))"
 } > "$out/run_info.txt"
 
 start=$(date +%s)
 elapsed() { echo $(( $(date +%s) - start ))s; }
 
 # render VIEW NAME ARGS...: one render with retries (the tracer may be rebuilt
-# under us); skips if --reuse and the JSON exists.
+# under us); skips if --reuse and the JSON exists. Names embree_* go through
+# embree_render, the others through `subdivtrace render`.
 render() {
     local view=$1 name=$2
     shift 2
+    local program=("$cli" render)
+    if [[ $name == embree_* ]]; then program=("$embree"); fi
     local dir="$out/$view"
     mkdir -p "$dir"
     if [[ $reuse == 1 && -s "$dir/$name.json" && -s "$dir/$name.png" ]]; then
@@ -114,7 +131,7 @@ render() {
     local try
     for try in 1 2 3; do
         # shellcheck disable=SC2086
-        if "$cli" render "$mesh" -o "$dir/$name.png" "${size[@]}" ${camera[$view]} "$@" \
+        if "${program[@]}" "$mesh" -o "$dir/$name.png" "${size[@]}" ${camera[$view]} "$@" \
             --stats-json "$dir/$name.json" --quiet 2> "$dir/$name.log"; then
             "$py" - "$dir/$name.json" "$view/$name" "$(elapsed)" <<'EOF'
 import json, sys
@@ -132,26 +149,57 @@ EOF
     return 1
 }
 
+# levels VIEW: the paper's Fig. 2, the level of the leaf each pixel hit at
+# tolerance 1 (render --color-by level), legend in levels_t1.txt.
+levels() {
+    local view=$1 dir="$out/$1"
+    mkdir -p "$dir"
+    if [[ $reuse == 1 && -s "$dir/levels_t1.png" && -s "$dir/levels_t1.txt" ]]; then
+        echo "[$(elapsed)] $view/levels_t1: reused"
+        return 0
+    fi
+    # shellcheck disable=SC2086
+    "$cli" render "$mesh" -o "$dir/levels_t1.png" "${size[@]}" ${camera[$view]} --tolerance 1 \
+        --max-level "$ref_level" --cache-mb "$cache_mb" --color-by level --quiet \
+        > "$dir/levels_t1.txt" 2> "$dir/levels_t1.log"
+    echo "[$(elapsed)] $view/levels_t1: $(grep 'mean level' "$dir/levels_t1.txt" | sed 's/^ *//')"
+}
+
+# uniform_level VIEW PREFIX K: the level-K mesh (PREFIX uniform_l: our BVH,
+# embree_uniform_l: Embree's), skipped when level K-1 peaked at more than a
+# quarter of the memory limit.
+uniform_level() {
+    local view=$1 prefix=$2 k=$3
+    if [[ $k -gt 0 && -s "$out/$view/$prefix$((k - 1)).json" ]]; then
+        prev=$("$py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["peak_rss_mb"])' \
+            "$out/$view/$prefix$((k - 1)).json")
+        if "$py" -c 'import sys; sys.exit(0 if 4 * float(sys.argv[1]) > float(sys.argv[2]) else 1)' \
+            "$prev" "$mem_limit_mb"; then
+            echo "[$(elapsed)] $view/$prefix$k: skipped (level $((k - 1)) peaked at $prev MB, x4 > $mem_limit_mb MB)"
+            rm -f "$out/$view/$prefix$k.json" "$out/$view/$prefix$k.png"
+            return 0
+        fi
+    fi
+    render "$view" "$prefix$k" --uniform "$k"
+}
+
 for view in "${views[@]}"; do
     echo "== view $view (${camera[$view]:-default camera})"
     render "$view" ref --tolerance "$ref_tol" --max-level "$ref_level" --cache-mb "$cache_mb"
+    levels "$view"
     for t in "${tolerances[@]}"; do
         render "$view" "adaptive_t$t" --tolerance "$t" --max-level "$ref_level" --cache-mb "$cache_mb"
     done
     render "$view" lowmem_t1 --tolerance 1 --max-level "$ref_level" --cache-mb "$lowmem_cache_mb"
     for k in "${levels[@]}"; do
-        if [[ $k -gt 0 && -s "$out/$view/uniform_l$((k - 1)).json" ]]; then
-            prev=$("$py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["peak_rss_mb"])' \
-                "$out/$view/uniform_l$((k - 1)).json")
-            if "$py" -c 'import sys; sys.exit(0 if 4 * float(sys.argv[1]) > float(sys.argv[2]) else 1)' \
-                "$prev" "$mem_limit_mb"; then
-                echo "[$(elapsed)] $view/uniform_l$k: skipped (level $((k - 1)) peaked at $prev MB, x4 > $mem_limit_mb MB)"
-                rm -f "$out/$view/uniform_l$k.json" "$out/$view/uniform_l$k.png"
-                continue
-            fi
-        fi
-        render "$view" "uniform_l$k" --uniform "$k"
+        uniform_level "$view" uniform_l "$k"
+        if [[ -n $embree ]]; then uniform_level "$view" embree_uniform_l "$k"; fi
     done
+    if [[ -n $embree ]]; then
+        for p in "${embree_pixels[@]}"; do
+            render "$view" "embree_subdiv_p$p" --subdiv-pixels "$p" || true
+        done
+    fi
 done
 
 # --- POV-Ray (optional) -------------------------------------------------------

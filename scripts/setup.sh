@@ -12,6 +12,8 @@ packages=(
     openimageio-tools
     # tests and benchmarks
     catch2 libbenchmark-dev
+    # compare/: Embree 3, the peer renderer (its BVH and its own subdivision)
+    libembree-dev
     # stock POV-Ray (reference renders of exported mesh2) and the patched build
     povray povray-includes
     autoconf automake dpkg-dev libboost-thread-dev libboost-date-time-dev

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "render/view_args.h"
+
 namespace subdivtrace::cli {
 
 using Args = std::vector<std::string>;
@@ -18,8 +20,6 @@ int run_render(const Args& args);
 int run_stats(const Args& args);
 
 /// Thrown by argument parsing; main prints it with the command's help, exit 2.
-struct UsageError {
-    std::string message;
-};
+using UsageError = tools::UsageError;
 
 }  // namespace subdivtrace::cli

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -225,4 +226,112 @@ TEST_CASE("cli: stock POV-Ray renders the exported mesh2", "[cli][povray]") {
     CHECK(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 0);
     CHECK(fs::exists(box.path("out.png")));
+}
+
+namespace {
+
+/// The pixels of `render --color-by level` per level, read back from its legend
+/// ("  level  3: green  (rgb ...)  1214 pixels  48.3%").
+std::map<int, long> legend_levels(const std::string& out) {
+    std::map<int, long> pixels;
+    std::istringstream in(out);
+    std::string line;
+    while (std::getline(in, line)) {
+        int level = -1;
+        long n = -1;
+        char name[64];
+        if (std::sscanf(line.c_str(), " level %d: %63[^(](rgb %*f %*f %*f) %ld pixels", &level,
+                        name, &n) == 3)
+            pixels[level] = n;
+    }
+    return pixels;
+}
+
+double mean_level(const std::map<int, long>& pixels) {
+    double sum = 0.0, count = 0.0;
+    for (const auto& [level, n] : pixels) sum += double(level) * n, count += n;
+    return count > 0 ? sum / count : -1.0;
+}
+
+/// Pixels of a binary PPM (P6, 8-bit) that differ from its top-left pixel.
+long pixels_unlike_corner(const std::string& ppm) {
+    std::istringstream in(ppm);
+    std::string magic;
+    int w = 0, h = 0, maxval = 0;
+    in >> magic >> w >> h >> maxval;
+    in.get();
+    REQUIRE(magic == "P6");
+    REQUIRE(maxval == 255);
+    std::string data(std::size_t(w) * h * 3, '\0');
+    in.read(&data[0], static_cast<std::streamsize>(data.size()));
+    REQUIRE(in.gcount() == static_cast<std::streamsize>(data.size()));
+    long differ = 0;
+    for (std::size_t p = 3; p < data.size(); p += 3)
+        if (data.compare(p, 3, data, 0, 3) != 0) ++differ;
+    return differ;
+}
+
+}  // namespace
+
+TEST_CASE("cli: render --color-by level shows a far view using lower levels than a close-up",
+          "[cli][render]") {
+    Sandbox box;
+    const std::string bunny = k_data + "/../../data/bunny_lowpoly.obj";  // ~2.5 units across
+    auto render = [&](const std::string& from, const std::string& out,
+                      std::vector<std::string> extra = {}) {
+        std::vector<std::string> args = {"render", bunny, "-o", box.path(out), "--width", "96",
+                                         "--height", "72", "--look-from", from, "--look-at",
+                                         "0,0,0", "--no-shadows", "--quiet", "--threads", "2"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const Result r = box.run(args);
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        return r.out;
+    };
+    const std::string far = render("0,0,10", "far.ppm", {"--color-by", "level"});
+    const std::string close = render("0,0,2", "close.ppm", {"--color-by", "level"});
+    INFO("far:\n" << far << "close:\n" << close);
+    const auto far_levels = legend_levels(far);
+    const auto close_levels = legend_levels(close);
+    REQUIRE_FALSE(far_levels.empty());
+    REQUIRE_FALSE(close_levels.empty());
+    // Five times closer: edges look five times longer, about log2(5) = 2.3 more levels.
+    CHECK(mean_level(close_levels) > mean_level(far_levels) + 1.5);
+    CHECK(close_levels.rbegin()->first > far_levels.rbegin()->first);
+
+    // The legend counts exactly the pixels the image colours (the rest is background).
+    long far_total = 0;
+    for (const auto& [level, n] : far_levels) far_total += n;
+    CHECK(far.find("over " + std::to_string(far_total) + " pixels") != std::string::npos);
+    CHECK(pixels_unlike_corner(slurp(box.path("far.ppm"))) == far_total);
+
+    // Without --color-by the render prints nothing on stdout.
+    CHECK(render("0,0,10", "plain.ppm").empty());
+    // The uniform baseline is one level everywhere.
+    const auto uniform = legend_levels(
+        render("0,0,10", "u2.ppm", {"--uniform", "2", "--color-by", "level"}));
+    CHECK(uniform.size() == 1);
+    CHECK(uniform.begin()->first == 2);
+}
+
+TEST_CASE("cli: render --color-by face counts the base faces seen", "[cli][render]") {
+    Sandbox box;
+    const Result r = box.run({"render", k_cube, "-o", box.path("cube.png"), "--width", "64",
+                              "--height", "48", "--color-by", "face", "--quiet"});
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    int faces = -1;
+    const auto at = r.out.find("):");
+    REQUIRE(at != std::string::npos);
+    REQUIRE(std::sscanf(r.out.c_str() + at, "): %d faces seen", &faces) == 1);
+    // The default camera sees three sides of the cube: 6 of its 12 triangles
+    // (more may peek in at the silhouette of the smooth surface).
+    CHECK(faces >= 6);
+    CHECK(faces <= 12);
+    CHECK(r.out.find("  face ") != std::string::npos);
+
+    const Result bad = box.run({"render", k_cube, "-o", box.path("x.png"), "--color-by", "normal"});
+    CHECK(bad.code == 2);
+    CHECK(bad.err.find("--color-by must be level or face") != std::string::npos);
+    CHECK_FALSE(fs::exists(box.path("x.png")));
 }

@@ -10,11 +10,13 @@
 
 #include <glm/geometric.hpp>
 
-#include "subdivtrace/render.h"
+#include "render/render_loop.h"
+#include "subdivtrace/spawn.h"
 #include "subdivtrace/tracer.h"
 #include "test_meshes.h"
 
 using namespace subdivtrace;
+using namespace subdivtrace::tools;  // the standalone renderer (Camera, render)
 
 namespace {
 

@@ -3,13 +3,13 @@
 
 #include <string>
 
-#include "subdivtrace/render.h"
+#include "render/render_loop.h"
 
-namespace subdivtrace::cli {
+namespace subdivtrace::tools {
 
 /// Writes the image (8-bit sRGB for .png/.jpg/.tga/.ppm, float otherwise).
 /// Writes to a temporary name and renames, so a failure leaves no partial
 /// file; throws std::runtime_error "<path>: <reason>".
 void write_image(const std::string& path, const Image& image);
 
-}  // namespace subdivtrace::cli
+}  // namespace subdivtrace::tools

@@ -1,4 +1,4 @@
-#include "image_out.h"
+#include "render/image_out.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include <OpenImageIO/imageio.h>
 
-namespace subdivtrace::cli {
+namespace subdivtrace::tools {
 
 namespace {
 
@@ -50,4 +50,4 @@ void write_image(const std::string& path, const Image& image) {
     }
 }
 
-}  // namespace subdivtrace::cli
+}  // namespace subdivtrace::tools

@@ -1,0 +1,13 @@
+#pragma once
+// Resident-set probes of this process, for the renderers' --stats-json.
+
+#include <cstddef>
+
+namespace subdivtrace::tools {
+
+/// Peak resident set size of this process (VmHWM), in bytes; 0 if unknown.
+std::size_t peak_rss_bytes();
+/// Current resident set size (VmRSS), in bytes; 0 if unknown.
+std::size_t current_rss_bytes();
+
+}  // namespace subdivtrace::tools
