@@ -90,8 +90,9 @@ struct Polygons {
 };
 
 /// Fan-triangulates and hands over to mesh_from_arrays, which checks ranges and
-/// values and drops triangles that repeat a vertex.
-Mesh finish(Polygons& in, const std::string& path, std::vector<std::string>* warnings) {
+/// values, welds coincident vertices and drops triangles that repeat a vertex.
+Mesh finish(Polygons& in, const std::string& path, std::vector<std::string>* warnings,
+            const WeldOptions& weld, WeldReport* report) {
     MeshArrays a;
     a.positions = std::move(in.positions);
     a.normals = std::move(in.normals);
@@ -118,7 +119,7 @@ Mesh finish(Polygons& in, const std::string& path, std::vector<std::string>* war
         warnings->push_back(path + ": fan-triangulated " + std::to_string(polygons) +
                             " polygon(s) with up to " + std::to_string(largest) + " corners into " +
                             std::to_string(a.face_indices.size()) + " triangles in all");
-    return mesh_from_arrays(a, path, warnings);
+    return mesh_from_arrays(a, path, warnings, weld, report);
 }
 
 // ---------------------------------------------------------------------------
@@ -295,7 +296,7 @@ bool parse_obj_ref(std::string_view w, std::int64_t out[3]) {
     return i == w.size();
 }
 
-Mesh read_obj(const std::string& path, const std::string& data,
+Polygons read_obj(const std::string& path, const std::string& data,
               std::vector<std::string>* warnings) {
     Cursor c{data.data(), data.data() + data.size()};
     Polygons m;
@@ -402,14 +403,13 @@ Mesh read_obj(const std::string& path, const std::string& data,
     if (ignored_elements > 0 && warnings)
         warnings->push_back(path + ": ignored " + std::to_string(ignored_elements) +
                             " line/point element(s)");
-    return finish(m, path, warnings);
+    return m;
 }
 
 // ---------------------------------------------------------------------------
 // OFF (Princeton/Geomview): [ST][C][N]OFF, counts, vertices, faces.
 
-Mesh read_off(const std::string& path, const std::string& data,
-              std::vector<std::string>* warnings) {
+Polygons read_off(const std::string& path, const std::string& data) {
     Cursor c{data.data(), data.data() + data.size()};
     c.skip_all(true);
     const std::string_view head = c.word();
@@ -500,7 +500,7 @@ Mesh read_off(const std::string& path, const std::string& data,
     }
     if (has_normal) m.vn = m.v;
     if (has_uv) m.vt = m.v;
-    return finish(m, path, warnings);
+    return m;
 }
 
 // ---------------------------------------------------------------------------
@@ -625,7 +625,7 @@ private:
     std::int64_t index_ = 0;
 };
 
-Mesh read_ply(const std::string& path, const std::string& data,
+Polygons read_ply(const std::string& path, const std::string& data,
               std::vector<std::string>* warnings) {
     // Parse the header line by line.
     Cursor c{data.data(), data.data() + data.size()};
@@ -820,36 +820,14 @@ Mesh read_ply(const std::string& path, const std::string& data,
     if (has_vertex_uv && !has_face_uv) m.vt = m.v;
     if (has_vertex_uv && has_face_uv && warnings)
         warnings->push_back(path + ": both vertex and face texture coordinates; using the face's");
-    return finish(m, path, warnings);
+    return m;
 }
 
 // ---------------------------------------------------------------------------
-// STL: triangle soup; vertices with identical coordinates are merged.
+// STL: a triangle soup, three vertices per facet (mesh_from_arrays welds them).
 
-class Welder {
-public:
-    explicit Welder(Polygons& m) : m_(m) {}
-    std::int64_t add(Vec3 p) {
-        // -0 and +0 are the same point.
-        p += Vec3(0.0);
-        const std::array<double, 3> key{p.x, p.y, p.z};
-        auto it = index_.find(key);
-        if (it != index_.end()) return it->second;
-        const auto i = static_cast<std::int64_t>(m_.positions.size());
-        m_.positions.push_back(p);
-        index_.emplace(key, i);
-        return i;
-    }
-
-private:
-    Polygons& m_;
-    std::map<std::array<double, 3>, std::int64_t> index_;
-};
-
-Mesh read_stl_binary(const std::string& path, const std::string& data, std::uint32_t n,
-                     std::vector<std::string>* warnings) {
+Polygons read_stl_binary(const std::string& path, const std::string& data, std::uint32_t n) {
     Polygons m;
-    Welder weld(m);
     const auto* b = reinterpret_cast<const unsigned char*>(data.data()) + 84;
     auto f32 = [&](std::size_t offset) {
         const std::uint32_t u = std::uint32_t(b[offset]) | std::uint32_t(b[offset + 1]) << 8 |
@@ -864,19 +842,18 @@ Mesh read_stl_binary(const std::string& path, const std::string& data, std::uint
             const Vec3 p(f32(12 + 12 * k), f32(16 + 12 * k), f32(20 + 12 * k));
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
                 fail(path, "triangle " + std::to_string(t) + ": coordinate is not finite");
-            m.v.push_back(weld.add(p));
+            m.v.push_back(static_cast<std::int64_t>(m.positions.size()));
+            m.positions.push_back(p);
         }
         m.sizes.push_back(3);
     }
     if (n == 0) fail(path, "no faces (binary STL with 0 triangles)");
-    return finish(m, path, warnings);
+    return m;
 }
 
-Mesh read_stl_ascii(const std::string& path, const std::string& data,
-                    std::vector<std::string>* warnings) {
+Polygons read_stl_ascii(const std::string& path, const std::string& data) {
     Cursor c{data.data(), data.data() + data.size()};
     Polygons m;
-    Welder weld(m);
     auto expect = [&](const char* word) {
         c.skip_all(false);
         if (c.eof())
@@ -934,7 +911,8 @@ Mesh read_stl_ascii(const std::string& path, const std::string& data,
             p.x = expect_double_any(c, path, "vertex", false);
             p.y = expect_double_any(c, path, "vertex", false);
             p.z = expect_double_any(c, path, "vertex", false);
-            m.v.push_back(weld.add(p));
+            m.v.push_back(static_cast<std::int64_t>(m.positions.size()));
+            m.positions.push_back(p);
             ++k;
         }
         if (c.eof()) fail(path, c.where() + "unexpected end of file inside a facet (truncated?)");
@@ -945,10 +923,10 @@ Mesh read_stl_ascii(const std::string& path, const std::string& data,
         expect("endfacet");
     }
     if (m.sizes.empty()) fail(path, "no faces (ASCII STL without facets)");
-    return finish(m, path, warnings);
+    return m;
 }
 
-Mesh read_stl(const std::string& path, const std::string& data,
+Polygons read_stl(const std::string& path, const std::string& data,
               std::vector<std::string>* warnings) {
     const std::uint64_t size = data.size();
     std::uint32_t n = 0;
@@ -958,11 +936,11 @@ Mesh read_stl(const std::string& path, const std::string& data,
             std::uint32_t(b[3]) << 24;
     }
     const std::uint64_t expected = 84 + 50ull * n;
-    if (size >= 84 && size == expected) return read_stl_binary(path, data, n, warnings);
+    if (size >= 84 && size == expected) return read_stl_binary(path, data, n);
     std::size_t i = 0;
     while (i < data.size() && std::isspace(static_cast<unsigned char>(data[i]))) ++i;
     if (equals_nocase(std::string_view(data).substr(i, 5), "solid"))
-        return read_stl_ascii(path, data, warnings);
+        return read_stl_ascii(path, data);
     if (size < 84)
         fail(path, "not an STL file: too short for binary STL (" + std::to_string(size) +
                        " bytes, the header alone takes 84) and no ASCII 'solid'");
@@ -973,7 +951,7 @@ Mesh read_stl(const std::string& path, const std::string& data,
     if (warnings)
         warnings->push_back(path + ": ignored " + std::to_string(size - expected) +
                             " bytes after the last binary STL triangle");
-    return read_stl_binary(path, data, n, warnings);
+    return read_stl_binary(path, data, n);
 }
 
 // ---------------------------------------------------------------------------
@@ -1142,15 +1120,17 @@ void write_stl(std::FILE* f, const Mesh& mesh) {
 
 }  // namespace
 
-Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
+Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings,
+               const WeldOptions& weld, WeldReport* report) {
     const std::string ext = extension_of(path);
     if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
         fail(path, "unsupported file format '" + ext + "' (expected .obj, .off, .ply or .stl)");
     const std::string data = read_file(path);
-    if (ext == "obj") return read_obj(path, data, warnings);
-    if (ext == "off") return read_off(path, data, warnings);
-    if (ext == "ply") return read_ply(path, data, warnings);
-    return read_stl(path, data, warnings);
+    Polygons polygons = ext == "obj"   ? read_obj(path, data, warnings)
+                        : ext == "off" ? read_off(path, data)
+                        : ext == "ply" ? read_ply(path, data, warnings)
+                                       : read_stl(path, data, warnings);
+    return finish(polygons, path, warnings, weld, report);
 }
 
 void write_mesh(const std::string& path, const Mesh& mesh) {

@@ -38,7 +38,8 @@ const char* k_render_help =
     "  --light X,Y,Z              point light (default: above right of the camera)\n"
     "  --no-shadows               no shadow rays\n"
     "  --stats-json FILE          write timings and work counters as JSON\n"
-    "  --quiet                    no progress output\n";
+    "  --quiet                    no progress output\n"
+    "  --weld EPS, --no-weld      how coincident vertices are welded (subdivtrace info --help)\n";
 
 struct RenderArgs {
     std::string mesh;
@@ -59,6 +60,7 @@ struct RenderArgs {
     Vec3 light{0.0};
     bool shadows = true;
     bool quiet = false;
+    WeldOptions weld;
 };
 
 double parse_number(const std::string& option, const std::string& text) {
@@ -103,6 +105,7 @@ RenderArgs parse_render_args(const Args& args, bool needs_output) {
             if (k + 1 >= args.size()) throw UsageError{a + " needs a value"};
             return args[++k];
         };
+        if (parse_weld_arg(args, k, r.weld)) continue;
         if (a == "-o" || a == "--output") r.output = value();
         else if (a == "--width") r.width = parse_int(a, value(), 1, 16384);
         else if (a == "--height") r.height = parse_int(a, value(), 1, 16384);
@@ -202,7 +205,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
     const std::size_t baseline_rss = current_rss_bytes();
     std::vector<std::string> warnings;
     const auto build_start = std::chrono::steady_clock::now();
-    Mesh mesh = read_mesh(a.mesh, &warnings);
+    Mesh mesh = read_mesh(a.mesh, &warnings, a.weld);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
     RenderOptions ro;
