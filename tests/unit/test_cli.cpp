@@ -126,6 +126,37 @@ TEST_CASE("cli: bad input exits 1 naming the file", "[cli]") {
     CHECK(x.err.find("out.xyz") != std::string::npos);
 }
 
+TEST_CASE("cli: a directory named like a mesh is bad input, said so", "[cli]") {
+    Sandbox box;
+    fs::create_directory(box.path("x.obj"));
+    for (const char* command : {"info", "stats"}) {
+        const Result r = box.run({command, box.path("x.obj")});
+        INFO(r.err);
+        CHECK(r.code == 1);
+        CHECK(r.err.find(box.path("x.obj") + ": is a directory") != std::string::npos);
+    }
+}
+
+TEST_CASE("cli: a mesh of scale 1e-11 renders with the default camera", "[cli]") {
+    Sandbox box;
+    // The framing scales with the mesh, so every scale covers the pixels the
+    // unit sphere covers (up to rays that graze the silhouette).
+    long unit_hits = -1;
+    for (double scale : {1.0, 1e-11, 1e-15, 1e11}) {
+        const std::string file = box.path("scaled.obj");
+        write_mesh(file, testmesh::offset_mesh(testmesh::icosphere(1), Vec3(0.0), scale));
+        const Result r = box.run({"stats", file, "--width", "32", "--height", "24"});
+        INFO("scale " << scale << ": " << r.err);
+        REQUIRE(r.code == 0);
+        const std::size_t at = r.out.find("\"hit_pixels\": ");
+        REQUIRE(at != std::string::npos);
+        const long hits = std::strtol(r.out.c_str() + at + 14, nullptr, 10);
+        if (unit_hits < 0) unit_hits = hits;
+        CHECK(hits > 80);
+        CHECK(std::abs(hits - unit_hits) <= 2);
+    }
+}
+
 TEST_CASE("cli: usage errors exit 2", "[cli]") {
     Sandbox box;
     const std::string out = box.path("out.obj");
@@ -163,7 +194,7 @@ TEST_CASE("cli: usage errors exit 2", "[cli]") {
     }
 }
 
-TEST_CASE("cli: info reports welded vertices; --no-weld and --weld EPS on every command",
+TEST_CASE("cli: info reports welded vertices, --no-weld and --weld EPS on every command",
           "[cli][weld]") {
     Sandbox box;
     // A sphere of 6 patches, each with its own copy of the seam vertices.

@@ -158,7 +158,7 @@ TEST_CASE("weld: UV seams keep every corner's UV exactly", "[weld]") {
     CHECK(uv_mismatch == 0);
 }
 
-TEST_CASE("weld: near-coincident vertices only with a tolerance; collapsed faces dropped",
+TEST_CASE("weld: near-coincident vertices only with a tolerance, collapsed faces dropped",
           "[weld]") {
     // Move every seam copy after the first by 1e-9 or 2e-9: exact welding keeps the
     // patches apart, a relative tolerance of 1e-7 joins them again.
@@ -197,7 +197,7 @@ TEST_CASE("weld: near-coincident vertices only with a tolerance; collapsed faces
     CHECK(mesh_from_arrays(a, "tiny").triangles.size() == 3);
 }
 
-TEST_CASE("weld: exact welding joins -0 and +0, never neighbours; chains do not collapse",
+TEST_CASE("weld: exact welding joins -0 and +0, never neighbours, chains do not collapse",
           "[weld]") {
     MeshArrays a;
     a.positions = {Vec3(0.0, 1, 0), Vec3(1, 0, 0), Vec3(0, 0, 1),

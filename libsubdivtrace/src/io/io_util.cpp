@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include <unistd.h>
@@ -50,6 +51,12 @@ std::string format_number(double v) {
 }
 
 std::string read_file(const std::string& path) {
+    // A directory opens as a stream on Linux and reports an absurd size.
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (!ec && std::filesystem::is_directory(st)) fail(path, "is a directory");
+    if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+        fail(path, "not a regular file");
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path, std::string("cannot open file (") + std::strerror(errno) + ")");
     in.seekg(0, std::ios::end);

@@ -148,6 +148,8 @@ Polygons read_ply(const std::string& path, const std::string& data,
         fail(path, "missing 'end_header' (truncated header?)");
     int format = -1;
     std::vector<PlyElement> elements;
+    std::size_t skipped_lines = 0;
+    std::string first_skipped;
     bool header_done = false;
     while (!c.eof()) {
         const std::string_view kw = c.word();
@@ -193,12 +195,24 @@ Polygons read_ply(const std::string& path, const std::string& data,
             header_done = true;
             break;
         } else if (!(kw == "comment" || kw == "obj_info" || kw.empty())) {
-            fail(path, c.where() + "unknown header line starting with " + quoted(kw));
+            // Exporters write other lines (assimp once wrote its banner without
+            // "comment"). Only element/property/format lines shape the data, so
+            // any other line is skipped; one that looks like a misspelt layout
+            // line would leave the data ambiguous.
+            const std::string k = lower(std::string(kw));
+            for (const char* layout : {"elem", "prop", "format", "end_header", "list"})
+                if (k.compare(0, std::strlen(layout), layout) == 0)
+                    fail(path, c.where() + "unknown header line starting with " + quoted(kw) +
+                                   " (a misspelt element, property or format line?)");
+            if (skipped_lines++ == 0) first_skipped = c.where() + quoted(kw);
         }
         c.skip_line();
     }
     if (!header_done) fail(path, "missing 'end_header' (truncated header?)");
     if (format < 0) fail(path, "missing 'format' line in header");
+    if (skipped_lines > 0 && warnings)
+        warnings->push_back(path + ": skipped " + std::to_string(skipped_lines) +
+                            " non-standard PLY header line(s) (first: " + first_skipped + ")");
 
     // Locate the properties we use.
     const PlyElement* vertex = nullptr;
