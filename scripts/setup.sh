@@ -12,6 +12,8 @@ packages=(
     openimageio-tools
     # tests and benchmarks
     catch2 libbenchmark-dev
+    # fuzzing (tests/fuzz/run.sh): clang with libFuzzer and its sanitizer runtimes
+    clang libclang-rt-dev
     # stock POV-Ray (reference renders of exported mesh2) and the patched build
     povray povray-includes
     autoconf automake dpkg-dev libboost-thread-dev libboost-date-time-dev

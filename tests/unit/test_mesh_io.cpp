@@ -854,3 +854,47 @@ TEST_CASE("mesh_io: analyze_mesh counts what the schemes will see", "[mesh_io][r
     CHECK_FALSE(is_degenerate_triangle({0, 0, 0}, {1e-200, 0, 0}, {0, 1e-200, 0}));
     CHECK(analyze_mesh(testmesh::sliver_mesh()).degenerate_faces == 0);
 }
+
+TEST_CASE("mesh_io: a PLY list count beyond any integer is refused, not converted",
+          "[mesh_io][fuzz]") {
+    // Found by fuzzing: a float list count of 3e29 was cast to int64 (undefined).
+    TempDir tmp;
+    for (const char* count : {"3e29", "1e300", "inf", "4294967296"}) {
+        const std::string text = std::string("ply\nformat ascii 1.0\nelement vertex 3\n") +
+                                 "property float x\nproperty float y\nproperty float z\n"
+                                 "element face 1\nproperty list float int vertex_indices\n"
+                                 "end_header\n0 0 0\n1 0 0\n0 1 0\n" + count + " 0 1 2\n";
+        INFO(count);
+        require_error(tmp.write("huge_list.ply", text), "items, more than the file holds");
+    }
+}
+
+TEST_CASE("mesh_io: the fuzz seeds and pinned fuzz regressions read or fail cleanly",
+          "[mesh_io][fuzz]") {
+    // tests/fuzz/{corpus,regressions}/read_<format>/*: each input must give a
+    // valid Mesh or a MeshError naming it, welded or not (what the harnesses assert).
+    const fs::path fuzz = fs::path(SUBDIVTRACE_TEST_DATA) / ".." / "fuzz";
+    TempDir tmp;
+    std::size_t inputs = 0;
+    for (const char* kind : {"corpus", "regressions"})
+        for (const char* format : {"obj", "off", "ply", "stl"}) {
+            const fs::path dir = fuzz / kind / (std::string("read_") + format);
+            if (!fs::is_directory(dir)) continue;
+            for (const auto& entry : fs::directory_iterator(dir)) {
+                // Copied under the format's extension, which read_mesh dispatches on.
+                const std::string path = tmp.path("input." + std::string(format));
+                fs::copy_file(entry.path(), path, fs::copy_options::overwrite_existing);
+                INFO(entry.path().string());
+                ++inputs;
+                for (const bool weld : {true, false}) {
+                    try {
+                        const Mesh m = read_mesh(path, nullptr, WeldOptions{weld, 0.0});
+                        CHECK_NOTHROW(validate_mesh(m, path));
+                    } catch (const MeshError& e) {
+                        CHECK(std::string(e.what()).rfind(path + ": ", 0) == 0);
+                    }
+                }
+            }
+        }
+    CHECK(inputs >= 10);
+}

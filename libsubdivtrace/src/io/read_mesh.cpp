@@ -14,6 +14,19 @@
 
 namespace subdivtrace {
 
+namespace io {
+
+Polygons read_polygons(const std::string& ext, const std::string& path, const std::string& data,
+                       std::vector<std::string>* warnings) {
+    if (ext == "obj") return read_obj(path, data, warnings);
+    if (ext == "off") return read_off(path, data);
+    if (ext == "ply") return read_ply(path, data, warnings);
+    if (ext == "stl") return read_stl(path, data, warnings);
+    fail(path, "unsupported file format '" + ext + "' (expected .obj, .off, .ply or .stl)");
+}
+
+}  // namespace io
+
 Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings,
                const WeldOptions& weld, WeldReport* report) {
     const std::string ext = io::extension_of(path);
@@ -21,10 +34,7 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings,
         io::fail(path,
                  "unsupported file format '" + ext + "' (expected .obj, .off, .ply or .stl)");
     const std::string data = io::read_file(path);
-    io::Polygons polygons = ext == "obj"   ? io::read_obj(path, data, warnings)
-                            : ext == "off" ? io::read_off(path, data)
-                            : ext == "ply" ? io::read_ply(path, data, warnings)
-                                           : io::read_stl(path, data, warnings);
+    io::Polygons polygons = io::read_polygons(ext, path, data, warnings);
     return io::mesh_from_polygons(polygons, path, warnings, weld, report);
 }
 

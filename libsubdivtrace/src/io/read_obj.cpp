@@ -70,17 +70,9 @@ Polygons read_obj(const std::string& path, const std::string& data,
         }
         const std::string_view kw = c.word();
         if (kw == "v") {
-            Vec3 p;
-            p.x = expect_double(c, path, "vertex");
-            p.y = expect_double(c, path, "vertex");
-            p.z = expect_double(c, path, "vertex");
-            m.positions.push_back(p);
+            m.positions.push_back(expect_vec3(c, path, "vertex"));
         } else if (kw == "vn") {
-            Vec3 n;
-            n.x = expect_double(c, path, "normal");
-            n.y = expect_double(c, path, "normal");
-            n.z = expect_double(c, path, "normal");
-            m.normals.push_back(n);
+            m.normals.push_back(expect_vec3(c, path, "normal"));
         } else if (kw == "vt") {
             Vec2 t{0.0};
             t.x = expect_double(c, path, "texture coordinate");

@@ -58,18 +58,8 @@ Polygons read_off(const std::string& path, const std::string& data) {
     m.positions.reserve(static_cast<std::size_t>(nv));
     for (std::int64_t i = 0; i < nv; ++i) {
         c.skip_all(true);
-        Vec3 p;
-        p.x = expect_double_any(c, path, "vertex", true);
-        p.y = expect_double_any(c, path, "vertex", true);
-        p.z = expect_double_any(c, path, "vertex", true);
-        m.positions.push_back(p);
-        if (has_normal) {
-            Vec3 n;
-            n.x = expect_double_any(c, path, "normal", true);
-            n.y = expect_double_any(c, path, "normal", true);
-            n.z = expect_double_any(c, path, "normal", true);
-            m.normals.push_back(n);
-        }
+        m.positions.push_back(expect_vec3_any(c, path, "vertex", true));
+        if (has_normal) m.normals.push_back(expect_vec3_any(c, path, "normal", true));
         if (has_uv) {
             Vec2 t;
             t.x = expect_double_any(c, path, "texture coordinate", true);

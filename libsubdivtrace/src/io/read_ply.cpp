@@ -289,7 +289,10 @@ Polygons read_ply(const std::string& path, const std::string& data,
                 }
                 const double count = in.read(p.count_type);
                 const std::int64_t item = format == 0 ? 2 : ply_size(p.type);
+                // Compared as a double first: a float count type can hold 1e30,
+                // which no integer conversion survives (found by fuzzing).
                 if (!(count >= 0) || count != std::floor(count) ||
+                    count > static_cast<double>(in.remaining() + 1) ||
                     exceeds(static_cast<std::int64_t>(count), item, in.remaining() + 1))
                     fail(path, in.where() + "list '" + p.name + "' claims " + format_number(count) +
                                    " items, more than the file holds (truncated?)");

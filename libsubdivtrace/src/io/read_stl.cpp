@@ -95,10 +95,7 @@ Polygons read_stl_ascii(const std::string& path, const std::string& data) {
                 c.p = save;
                 break;
             }
-            Vec3 p;
-            p.x = expect_double_any(c, path, "vertex", false);
-            p.y = expect_double_any(c, path, "vertex", false);
-            p.z = expect_double_any(c, path, "vertex", false);
+            const Vec3 p = expect_vec3_any(c, path, "vertex", false);
             m.v.push_back(static_cast<std::int64_t>(m.positions.size()));
             m.positions.push_back(p);
             ++k;

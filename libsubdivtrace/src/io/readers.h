@@ -33,6 +33,11 @@ Polygons read_ply(const std::string& path, const std::string& data,
 Polygons read_stl(const std::string& path, const std::string& data,
                   std::vector<std::string>* warnings);
 
+/// The reader of extension `ext` ("obj", "off", "ply" or "stl", lower case)
+/// applied to `data`; fails naming `path` for any other extension.
+Polygons read_polygons(const std::string& ext, const std::string& path, const std::string& data,
+                       std::vector<std::string>* warnings);
+
 /// Fan-triangulates (one warning counting the polygons) and hands over to
 /// mesh_from_arrays, which checks ranges and values, welds coincident vertices
 /// and drops triangles that repeat a vertex.

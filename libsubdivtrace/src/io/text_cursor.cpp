@@ -61,6 +61,18 @@ double expect_double_any(Cursor& c, const std::string& path, const char* what, b
     return expect_double(c, path, what);
 }
 
+Vec3 expect_vec3(Cursor& c, const std::string& path, const char* what) {
+    Vec3 v;
+    for (int k = 0; k < 3; ++k) v[k] = expect_double(c, path, what);
+    return v;
+}
+
+Vec3 expect_vec3_any(Cursor& c, const std::string& path, const char* what, bool hash) {
+    Vec3 v;
+    for (int k = 0; k < 3; ++k) v[k] = expect_double_any(c, path, what, hash);
+    return v;
+}
+
 std::int64_t expect_int_any(Cursor& c, const std::string& path, const char* what, bool hash) {
     c.skip_all(hash);
     if (c.eof()) fail(path, c.where() + "unexpected end of file in " + what + " (truncated?)");

@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "subdivtrace/mesh.h"
+
 namespace subdivtrace::io {
 
 /// A cursor over text. The file buffer is a std::string, so it is
@@ -71,6 +73,12 @@ double expect_double(Cursor& c, const std::string& path, const char* what);
 
 /// Like expect_double but first skips newlines and comments (free-form formats).
 double expect_double_any(Cursor& c, const std::string& path, const char* what, bool hash);
+
+/// Three expect_double values on this line (x y z of a vertex or normal).
+Vec3 expect_vec3(Cursor& c, const std::string& path, const char* what);
+
+/// Three expect_double_any values (free-form formats).
+Vec3 expect_vec3_any(Cursor& c, const std::string& path, const char* what, bool hash);
 
 /// An integer at the cursor, anywhere after blank lines/comments.
 std::int64_t expect_int_any(Cursor& c, const std::string& path, const char* what, bool hash);
