@@ -14,6 +14,8 @@ packages=(
     catch2 libbenchmark-dev
     # compare/: Embree 3, the peer renderer (its BVH and its own subdivision)
     libembree-dev
+    # fuzzing (tests/fuzz/run.sh): clang with libFuzzer and its sanitizer runtimes
+    clang libclang-rt-dev
     # stock POV-Ray (reference renders of exported mesh2) and the patched build
     povray povray-includes
     autoconf automake dpkg-dev libboost-thread-dev libboost-date-time-dev

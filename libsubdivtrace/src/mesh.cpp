@@ -7,6 +7,9 @@
 #include <limits>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "weld.h"
 
 namespace subdivtrace {
 
@@ -20,6 +23,12 @@ bool is_finite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 bool is_finite(const Vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
+
+std::string format_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
 
 std::string format_vec(const Vec3& v) {
     char buf[96];
@@ -56,7 +65,8 @@ void check_range(const std::array<std::int64_t, 3>& idx, std::size_t count, cons
 }  // namespace
 
 Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
-                      std::vector<std::string>* warnings) {
+                      std::vector<std::string>* warnings, const WeldOptions& weld,
+                      WeldReport* report) {
     // Sizes first: they decide how the index lists are read.
     if (arrays.face_indices.empty()) fail(source, "no faces");
     if (arrays.positions.empty()) fail(source, "no vertices");
@@ -74,6 +84,9 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
     if (!arrays.uv_indices.empty() && arrays.uv_indices.size() != n_faces)
         fail(source, "uv_indices has " + std::to_string(arrays.uv_indices.size()) +
                          " entries but face_indices has " + std::to_string(n_faces));
+    if (!(std::isfinite(weld.relative_tolerance) && weld.relative_tolerance >= 0.0))
+        fail(source, "weld tolerance must be finite and >= 0 (it is " +
+                         format_number(weld.relative_tolerance) + ")");
 
     check_finite(arrays.positions, "vertex", source);
     check_finite(arrays.normals, "normal", source);
@@ -92,24 +105,49 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
                         arrays.uvs.size(), "uv index", f, source);
     }
 
-    // Copy, dropping triangles that repeat a vertex: they have no area and no
-    // three edges, so no scheme can split them.
+    // Weld: the topology is built on the connectivity the positions imply.
     Mesh mesh;
-    mesh.positions = arrays.positions;
+    std::vector<std::uint32_t> remap;
+    if (weld.enabled) {
+        double tolerance = 0.0;
+        if (weld.relative_tolerance > 0.0) {
+            Bounds3 b;
+            b.lo = b.hi = arrays.positions[static_cast<std::size_t>(arrays.face_indices[0][0])];
+            for (const auto& face : arrays.face_indices)
+                for (std::int64_t i : face) {
+                    b.lo = glm::min(b.lo, arrays.positions[static_cast<std::size_t>(i)]);
+                    b.hi = glm::max(b.hi, arrays.positions[static_cast<std::size_t>(i)]);
+                }
+            tolerance = weld.relative_tolerance * glm::length(b.hi - b.lo);
+        }
+        WeldMap map = weld_positions(arrays.positions, tolerance);
+        mesh.positions = std::move(map.positions);
+        remap = std::move(map.remap);
+    } else {
+        mesh.positions = arrays.positions;
+    }
+    auto vertex = [&](std::int64_t i) {
+        return remap.empty() ? static_cast<std::uint32_t>(i) : remap[static_cast<std::size_t>(i)];
+    };
+
+    // Copy, dropping triangles that repeat a vertex (as given, or once welded):
+    // they have no area and no three edges, so no scheme can split them.
     mesh.triangles.reserve(n_faces);
     if (has_normals) mesh.corner_normals.reserve(3 * n_faces);
     if (has_uvs) mesh.corner_uvs.reserve(3 * n_faces);
-    std::size_t dropped = 0;
-    std::size_t first_dropped = 0;
+    std::size_t dropped = 0, first_dropped = 0, collapsed = 0, first_collapsed = 0;
     for (std::size_t f = 0; f < n_faces; ++f) {
         const auto& v = arrays.face_indices[f];
         if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) {
             if (dropped++ == 0) first_dropped = f;
             continue;
         }
-        mesh.triangles.push_back({static_cast<std::uint32_t>(v[0]),
-                                  static_cast<std::uint32_t>(v[1]),
-                                  static_cast<std::uint32_t>(v[2])});
+        const Triangle t{vertex(v[0]), vertex(v[1]), vertex(v[2])};
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+            if (collapsed++ == 0) first_collapsed = f;
+            continue;
+        }
+        mesh.triangles.push_back(t);
         for (int c = 0; c < 3; ++c) {
             if (has_normals) {
                 const auto& ni = arrays.normal_indices.empty() ? v : arrays.normal_indices[f];
@@ -121,13 +159,27 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
             }
         }
     }
-    if (mesh.triangles.empty())
+    if (mesh.triangles.empty()) {
+        if (collapsed > 0)
+            fail(source, "no faces left: " + std::to_string(collapsed) + " of " +
+                             std::to_string(n_faces) +
+                             " triangles collapsed when welding coincident vertices" +
+                             (dropped > 0 ? ", the others repeat a vertex index" : ""));
         fail(source,
              "no faces left: all " + std::to_string(n_faces) + " triangles repeat a vertex index");
+    }
     if (dropped > 0 && warnings)
         warnings->push_back(source + ": dropped " + std::to_string(dropped) +
                             " triangle(s) that repeat a vertex index (first: face " +
                             std::to_string(first_dropped) + ")");
+    if (collapsed > 0 && warnings)
+        warnings->push_back(source + ": dropped " + std::to_string(collapsed) +
+                            " triangle(s) that collapsed when welding coincident vertices " +
+                            "(first: face " + std::to_string(first_collapsed) + ")");
+    if (report) {
+        report->welded_vertices = arrays.positions.size() - mesh.positions.size();
+        report->collapsed_triangles = collapsed;
+    }
     return mesh;
 }
 

@@ -8,6 +8,42 @@
 
 namespace subdivtrace::cli {
 
+const char* const k_weld_help =
+    "  --weld EPS                 also weld vertices closer than EPS times the bounding-box\n"
+    "                             diagonal (default 0: only identical positions are welded)\n"
+    "  --no-weld                  keep coincident vertices apart (separate sheets)\n";
+
+bool parse_weld_arg(const Args& args, std::size_t& i, WeldOptions& weld) {
+    const std::string& arg = args[i];
+    if (arg == "--no-weld") {
+        weld.enabled = false;
+        return true;
+    }
+    std::string value;
+    if (arg == "--weld") {
+        if (i + 1 >= args.size()) throw UsageError{"option '--weld' needs a value"};
+        value = args[++i];
+    } else if (arg.compare(0, 7, "--weld=") == 0) {
+        value = arg.substr(7);
+    } else {
+        return false;
+    }
+    std::size_t used = 0;
+    double eps = -1.0;
+    try {
+        eps = std::stod(value, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    // Beyond a tenth of the diagonal, welding would fold the mesh onto itself.
+    if (value.empty() || used != value.size() || !(eps >= 0.0 && eps <= 0.1))
+        throw UsageError{"--weld expects a number in [0, 0.1] (relative to the bounding-box "
+                         "diagonal), got '" + value + "'"};
+    weld.enabled = true;
+    weld.relative_tolerance = eps;
+    return true;
+}
+
 MeshArgs parse_mesh_args(const Args& args, unsigned accepted, int default_levels,
                          bool output_required) {
     MeshArgs out;
@@ -28,6 +64,7 @@ MeshArgs parse_mesh_args(const Args& args, unsigned accepted, int default_levels
             out.limit = true;
             continue;
         }
+        if (parse_weld_arg(args, i, out.weld)) continue;
         // --opt=value or --opt value
         std::string value;
         bool has_value = false;

@@ -1,10 +1,12 @@
 #pragma once
 // Shared option parsing of the mesh commands (info, subdivide, export-mesh2):
-// one positional MESH, -o/--output, --scheme, --levels, --name, --limit, --help.
+// one positional MESH, -o/--output, --scheme, --levels, --name, --limit, --help,
+// and the weld options every command that reads a mesh takes (--weld, --no-weld).
 
 #include <string>
 
 #include "commands.h"
+#include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
 #include "subdivtrace/uniform.h"
 
@@ -26,8 +28,18 @@ struct MeshArgs {
     SchemeKind scheme = SchemeKind::normal;
     int levels = 0;
     bool limit = false;  ///< push vertices to the limit surface (push_to_limit)
+    WeldOptions weld;    ///< --weld EPS / --no-weld
     bool help = false;
 };
+
+/// Help text of the weld options, for each command's --help.
+extern const char* const k_weld_help;
+
+/// If args[i] is a weld option (`--no-weld`, `--weld EPS`, `--weld=EPS`),
+/// applies it to `weld`, advances i past its value and returns true. EPS is
+/// relative to the bounding-box diagonal: a number in [0, 0.1] (0 = exact,
+/// the default). Throws UsageError on a missing or bad EPS.
+bool parse_weld_arg(const Args& args, std::size_t& i, WeldOptions& weld);
 
 /// Parses `args`; options may be given as `--opt VALUE` or `--opt=VALUE`.
 /// Throws UsageError on an unknown option, a missing value, a bad scheme, a

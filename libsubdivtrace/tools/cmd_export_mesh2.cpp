@@ -15,7 +15,7 @@ namespace {
 
 const char* k_export_help =
     "usage: subdivtrace export-mesh2 MESH -o OUT.inc [--scheme S] [--levels K] [--name IDENT]\n"
-    "                           [--limit]\n"
+    "                           [--limit] [--weld EPS | --no-weld]\n"
     "\n"
     "Writes `#declare IDENT = mesh2 { ... }` for POV-Ray 3.7, after K levels of\n"
     "uniform subdivision (default 0: the mesh as read, with its own normals/UVs).\n"
@@ -42,11 +42,12 @@ int run_export_mesh2(const Args& args) {
                         false);
     if (a.help) {
         std::fputs(k_export_help, stdout);
+        std::fputs(k_weld_help, stdout);
         return 0;
     }
     if (a.output.empty()) throw UsageError{"no output file given (-o OUT.inc)"};
     std::vector<std::string> warnings;
-    Mesh mesh = read_mesh(a.mesh, &warnings);
+    Mesh mesh = read_mesh(a.mesh, &warnings, a.weld);
     print_warnings(warnings);
     const std::size_t base = mesh.triangles.size();
 

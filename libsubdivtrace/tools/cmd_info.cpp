@@ -11,11 +11,13 @@ namespace subdivtrace::cli {
 namespace {
 
 const char* k_info_help =
-    "usage: subdivtrace info MESH\n"
+    "usage: subdivtrace info MESH [--weld EPS | --no-weld]\n"
     "\n"
     "Reads MESH (.obj .off .ply .stl) and prints vertex, face and edge counts,\n"
-    "boundary and non-manifold edges, degenerate and duplicate triangles,\n"
-    "unreferenced vertices, the valence histogram and the bounding box.\n";
+    "how many vertices were welded, boundary and non-manifold edges, degenerate\n"
+    "and duplicate triangles, unreferenced vertices, the valence histogram and\n"
+    "the bounding box.\n"
+    "\n";
 
 }  // namespace
 
@@ -23,15 +25,21 @@ int run_info(const Args& args) {
     const MeshArgs a = parse_mesh_args(args, 0, 0, false);
     if (a.help) {
         std::fputs(k_info_help, stdout);
+        std::fputs(k_weld_help, stdout);
         return 0;
     }
     std::vector<std::string> warnings;
-    const Mesh mesh = read_mesh(a.mesh, &warnings);
+    WeldReport weld;
+    const Mesh mesh = read_mesh(a.mesh, &warnings, a.weld, &weld);
     print_warnings(warnings);
     const MeshReport r = analyze_mesh(mesh);
 
     std::printf("file:                  %s\n", a.mesh.c_str());
     std::printf("vertices:              %zu\n", r.vertices);
+    if (a.weld.enabled)
+        std::printf("welded vertices:       %zu\n", weld.welded_vertices);
+    else
+        std::printf("welded vertices:       none (--no-weld)\n");
     std::printf("triangles:             %zu\n", r.faces);
     std::printf("edges:                 %zu\n", r.edges);
     std::printf("components:            %zu\n", r.components);

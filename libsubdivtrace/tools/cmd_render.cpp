@@ -35,10 +35,11 @@ const char* k_render_options_help =
     "  --tolerance T              refine while an edge exceeds T pixels (1)\n"
     "  --max-level L              deepest level any ray may reach (8)\n"
     "  --uniform K                render the uniform level-K mesh instead (baseline)\n"
-    "  --cache-mb M               node cache budget in MB (512)\n"
+    "  --cache-mb M               tile cache budget in MB (64)\n"
     "  --shell K                  bounding shells: slab (box and normal slab) | aabb (slab)\n"
     "  --color-by level|face      false colours: the level of the leaf each pixel hit,\n"
-    "                             or its base triangle; a legend goes to stdout\n";
+    "                             or its base triangle; a legend goes to stdout\n"
+    "  --weld EPS, --no-weld      how coincident vertices are welded (subdivtrace info --help)\n";
 
 struct RenderArgs {
     std::string mesh;
@@ -47,9 +48,10 @@ struct RenderArgs {
     double tolerance = 1.0;
     int max_level = 8;
     int uniform = -1;
-    std::size_t cache_mb = 512;
+    std::size_t cache_mb = SurfaceOptions{}.cache_mb;
     ShellKind shell = ShellKind::aabb_slab;
     ColorBy color_by = ColorBy::shading;
+    WeldOptions weld;
 };
 
 RenderArgs parse_render_args(const Args& args, bool needs_output) {
@@ -58,6 +60,7 @@ RenderArgs parse_render_args(const Args& args, bool needs_output) {
         if (parse_view_option(args, k, r.view)) continue;
         const std::string& a = args[k];
         auto value = [&]() -> const std::string& { return option_value(args, k); };
+        if (parse_weld_arg(args, k, r.weld)) continue;
         if (a == "--scheme") r.scheme = parse_scheme_option(value());
         else if (a == "--tolerance") {
             r.tolerance = parse_number(a, value());
@@ -131,7 +134,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
     const std::size_t baseline_rss = current_rss_bytes();
     std::vector<std::string> warnings;
     const auto build_start = std::chrono::steady_clock::now();
-    Mesh mesh = read_mesh(a.mesh, &warnings);
+    Mesh mesh = read_mesh(a.mesh, &warnings, a.weld);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
     RenderOptions ro = render_options(a.view);

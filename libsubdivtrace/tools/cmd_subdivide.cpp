@@ -14,6 +14,7 @@ namespace {
 
 const char* k_subdivide_help =
     "usage: subdivtrace subdivide MESH -o OUT [--scheme S] [--levels K] [--limit]\n"
+    "                            [--weld EPS | --no-weld]\n"
     "\n"
     "Subdivides every triangle of MESH 1-to-4, K times (default 1, at most 10),\n"
     "and writes OUT (.obj .off .ply .stl, by extension).\n"
@@ -29,11 +30,12 @@ int run_subdivide(const Args& args) {
     const MeshArgs a = parse_mesh_args(args, k_arg_output | k_arg_scheme | k_arg_levels | k_arg_limit, 1, false);
     if (a.help) {
         std::fputs(k_subdivide_help, stdout);
+        std::fputs(k_weld_help, stdout);
         return 0;
     }
     if (a.output.empty()) throw UsageError{"no output file given (-o OUT)"};
     std::vector<std::string> warnings;
-    const Mesh mesh = read_mesh(a.mesh, &warnings);
+    const Mesh mesh = read_mesh(a.mesh, &warnings, a.weld);
     print_warnings(warnings);
 
     const auto start = std::chrono::steady_clock::now();

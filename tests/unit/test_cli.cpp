@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "subdivtrace/mesh_io.h"
+#include "test_meshes.h"
 
 namespace fs = std::filesystem;
 using namespace subdivtrace;
@@ -126,6 +127,37 @@ TEST_CASE("cli: bad input exits 1 naming the file", "[cli]") {
     CHECK(x.err.find("out.xyz") != std::string::npos);
 }
 
+TEST_CASE("cli: a directory named like a mesh is bad input, said so", "[cli]") {
+    Sandbox box;
+    fs::create_directory(box.path("x.obj"));
+    for (const char* command : {"info", "stats"}) {
+        const Result r = box.run({command, box.path("x.obj")});
+        INFO(r.err);
+        CHECK(r.code == 1);
+        CHECK(r.err.find(box.path("x.obj") + ": is a directory") != std::string::npos);
+    }
+}
+
+TEST_CASE("cli: a mesh of scale 1e-11 renders with the default camera", "[cli]") {
+    Sandbox box;
+    // The framing scales with the mesh, so every scale covers the pixels the
+    // unit sphere covers (up to rays that graze the silhouette).
+    long unit_hits = -1;
+    for (double scale : {1.0, 1e-11, 1e-15, 1e11}) {
+        const std::string file = box.path("scaled.obj");
+        write_mesh(file, testmesh::offset_mesh(testmesh::icosphere(1), Vec3(0.0), scale));
+        const Result r = box.run({"stats", file, "--width", "32", "--height", "24"});
+        INFO("scale " << scale << ": " << r.err);
+        REQUIRE(r.code == 0);
+        const std::size_t at = r.out.find("\"hit_pixels\": ");
+        REQUIRE(at != std::string::npos);
+        const long hits = std::strtol(r.out.c_str() + at + 14, nullptr, 10);
+        if (unit_hits < 0) unit_hits = hits;
+        CHECK(hits > 80);
+        CHECK(std::abs(hits - unit_hits) <= 2);
+    }
+}
+
 TEST_CASE("cli: usage errors exit 2", "[cli]") {
     Sandbox box;
     const std::string out = box.path("out.obj");
@@ -161,6 +193,57 @@ TEST_CASE("cli: usage errors exit 2", "[cli]") {
         CHECK(r.code == 0);
         CHECK(r.out.find("usage: subdivtrace") != std::string::npos);
     }
+}
+
+TEST_CASE("cli: info reports welded vertices, --no-weld and --weld EPS on every command",
+          "[cli][weld]") {
+    Sandbox box;
+    // A sphere of 6 patches, each with its own copy of the seam vertices.
+    WeldOptions keep;
+    keep.enabled = false;
+    const Mesh split =
+        mesh_from_arrays(testmesh::patch_split_sphere(3, false), "sphere", nullptr, keep);
+    REQUIRE(split.positions.size() == 96);  // 6 patches of 4 x 4; 56 distinct
+    for (const char* ext : {"obj", "ply", "stl"}) {
+        const std::string file = box.path(std::string("sphere.") + ext);
+        write_mesh(file, split);
+        const Result w = box.run({"info", file});
+        INFO(file << ": " << w.err);
+        REQUIRE(w.code == 0);
+        // STL stores three vertices per facet: 3 * 108 - 56 of them are welded.
+        const std::string welded = ext == std::string("stl") ? "268" : "40";
+        CHECK(w.out.find("welded vertices:       " + welded + "\n") != std::string::npos);
+        CHECK(w.out.find("vertices:              56\n") != std::string::npos);
+        CHECK(w.out.find("components:            1\n") != std::string::npos);
+        CHECK(w.out.find("boundary edges:        0\n") != std::string::npos);
+        const Result n = box.run({"info", file, "--no-weld"});
+        REQUIRE(n.code == 0);
+        CHECK(n.out.find("welded vertices:       none (--no-weld)\n") != std::string::npos);
+        CHECK(n.out.find(ext == std::string("stl") ? "components:            108\n"
+                                                   : "components:            6\n") !=
+              std::string::npos);
+        const Result t = box.run({"info", file, "--weld=1e-6"});
+        CHECK(t.code == 0);
+        CHECK(t.out.find("components:            1\n") != std::string::npos);
+    }
+    const std::string obj = box.path("sphere.obj");
+    const std::string out = box.path("out.obj");
+    CHECK(box.run({"subdivide", obj, "-o", out, "--no-weld"}).code == 0);
+    CHECK(read_mesh(out, nullptr, keep).positions.size() == 6 * 7 * 7);  // 6 patches of (2n + 1)^2
+    CHECK(box.run({"subdivide", obj, "-o", out, "--weld", "0"}).code == 0);
+    CHECK(read_mesh(out, nullptr, keep).positions.size() == 56 + 162);  // + one per edge
+    CHECK(box.run({"export-mesh2", obj, "-o", box.path("s.inc"), "--no-weld"}).code == 0);
+    CHECK(box.run({"stats", obj, "--no-weld", "--width", "8", "--height", "6"}).code == 0);
+    CHECK(box.run({"stats", obj, "--weld", "1e-9", "--width", "8", "--height", "6"}).code == 0);
+    for (const char* bad : {"-1", "abc", "0.5", "nan", ""}) {
+        for (const char* command : {"info", "subdivide", "render", "stats"}) {
+            const Result r = box.run({command, obj, "--weld", bad, "-o", out});
+            INFO(command << " --weld '" << bad << "': " << r.err);
+            CHECK(r.code == 2);
+            CHECK(r.err.find("--weld") != std::string::npos);
+        }
+    }
+    CHECK(box.run({"info", obj, "--weld"}).code == 2);
 }
 
 TEST_CASE("cli: subdivide --levels 2 of 12 triangles gives 192, every scheme", "[cli]") {

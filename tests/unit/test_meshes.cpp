@@ -454,4 +454,56 @@ Mesh from_openmesh(const OmMesh& om) {
     return m;
 }
 
+MeshArrays patch_split_sphere(int n, bool shared) {
+    // Each cube face: the axis it is normal to, its side, and the (u, v) axes
+    // with u x v = the outward normal, so (u, v)-counter-clockwise is outward.
+    struct Face {
+        int axis, u, v;
+        bool positive;
+    };
+    static const Face faces[6] = {{0, 1, 2, true},  {0, 2, 1, false}, {1, 2, 0, true},
+                                  {1, 0, 2, false}, {2, 0, 1, true},  {2, 1, 0, false}};
+    MeshArrays out;
+    std::map<std::array<int, 3>, std::int64_t> lattice_index;  // shared only
+    for (const Face& f : faces) {
+        // The patch's vertices, j-major, and where each one went.
+        std::vector<std::int64_t> index((n + 1) * (n + 1));
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) {
+                std::array<int, 3> c{};
+                c[f.axis] = f.positive ? n : 0;
+                c[f.u] = i;
+                c[f.v] = j;
+                const Vec3 cube(2.0 * c[0] / n - 1.0, 2.0 * c[1] / n - 1.0, 2.0 * c[2] / n - 1.0);
+                const Vec2 uv(double(i) / n, double(j) / n);
+                std::int64_t& slot = index[j * (n + 1) + i];
+                if (shared) {
+                    auto [it, inserted] = lattice_index.emplace(
+                        c, static_cast<std::int64_t>(out.positions.size()));
+                    if (inserted) out.positions.push_back(glm::normalize(cube));
+                    slot = it->second;
+                    out.uvs.push_back(uv);
+                } else {
+                    slot = static_cast<std::int64_t>(out.positions.size());
+                    out.positions.push_back(glm::normalize(cube));
+                    out.uvs.push_back(uv);
+                }
+            }
+        // UVs are numbered per patch vertex in both versions.
+        const std::int64_t uv_base = static_cast<std::int64_t>(out.uvs.size()) - (n + 1) * (n + 1);
+        auto at = [&](int i, int j) { return index[j * (n + 1) + i]; };
+        auto uv_at = [&](int i, int j) { return uv_base + j * (n + 1) + i; };
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                out.face_indices.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+                out.face_indices.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+                if (shared) {
+                    out.uv_indices.push_back({uv_at(i, j), uv_at(i + 1, j), uv_at(i + 1, j + 1)});
+                    out.uv_indices.push_back({uv_at(i, j), uv_at(i + 1, j + 1), uv_at(i, j + 1)});
+                }
+            }
+    }
+    return out;
+}
+
 }  // namespace subdivtrace::testmesh

@@ -54,6 +54,19 @@ Mesh high_valence_fan(int n);
 /// that meet at the rim have normals ~180 degrees apart.
 Mesh folded();
 
+/// A unit sphere made like the Utah teapot: 6 patches (the cube's faces, each
+/// an n x n grid of quads split into triangles, projected onto the sphere),
+/// each patch with its own (n + 1)^2 vertices, so every seam vertex is written
+/// once per patch that touches it, with bit-identical positions (each is the
+/// normalised cube point of the same integer lattice coordinates). Per-vertex
+/// UVs are each patch's own grid (i / n, j / n): along a seam, one position
+/// has several UVs. `uv_indices` is empty (the face indices index the UVs).
+/// With `shared`, the same sphere with one vertex per position, found through
+/// the integer lattice (not by comparing floats), numbered in order of first
+/// appearance in the patch-split arrays; its UVs are per corner (uv_indices).
+/// Faces are counter-clockwise seen from outside, in the same order in both.
+MeshArrays patch_split_sphere(int n, bool shared);
+
 /// p * scale + offset for every position (normals and UVs unchanged).
 Mesh offset_mesh(Mesh mesh, const Vec3& offset, double scale);
 

@@ -3,6 +3,7 @@
 /// The validated triangle mesh every other part of the library starts from.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -53,12 +54,44 @@ struct MeshArrays {
     std::vector<std::array<std::int64_t, 3>> uv_indices;
 };
 
-/// Builds a Mesh from raw arrays and validates it. Throws MeshError naming
-/// `source` on out-of-range indices, non-finite values, size mismatches or an
-/// empty face list. Triangles that repeat a vertex index are dropped with a
-/// warning (they have no area and no edges to subdivide).
+/// How vertices with the same position become one vertex of the topology when
+/// a Mesh is built (mesh_from_arrays, and so every reader of mesh_io.h).
+/// Exporters write a vertex once per patch, UV island or hard edge; without
+/// welding, a subdivision surface tears apart along those seams. Each face
+/// corner keeps its own normal and UV, so UV seams and split normals survive.
+struct WeldOptions {
+    /// Weld at all. false keeps the vertices as given (separate sheets stay
+    /// separate, an STL file stays a triangle soup).
+    bool enabled = true;
+    /// 0 = only bit-identical positions (-0 equals +0) are welded. Greater than
+    /// 0: a vertex joins the first earlier vertex within relative_tolerance
+    /// times the bounding-box diagonal of the used positions (for exporters
+    /// that round). Must be finite and >= 0.
+    double relative_tolerance = 0.0;
+};
+
+/// What welding did, for reports (`subdivtrace info`).
+struct WeldReport {
+    /// Input vertices that were merged into an earlier one (input count minus
+    /// the count of the built Mesh).
+    std::size_t welded_vertices = 0;
+    /// Triangles dropped because welding made two of their corners one vertex.
+    std::size_t collapsed_triangles = 0;
+};
+
+/// Builds a Mesh from raw arrays, welds coincident vertices (`weld`) and
+/// validates it. Throws MeshError naming `source` on out-of-range indices,
+/// non-finite values, size mismatches, a bad tolerance or an empty face list.
+/// Triangles that repeat a vertex index, in the input or after welding, are
+/// dropped with a warning that counts them (they have no area and no edges to
+/// subdivide). Welded vertices take the position of their first occurrence
+/// and are numbered in order of first appearance; unused input vertices are
+/// kept (welded like the others). Triangles keep their order, and their
+/// corner normals and UVs are the input's, exactly. `report` (optional)
+/// receives the counts.
 Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
-                      std::vector<std::string>* warnings = nullptr);
+                      std::vector<std::string>* warnings = nullptr,
+                      const WeldOptions& weld = {}, WeldReport* report = nullptr);
 
 /// Checks the invariants listed on Mesh; throws MeshError naming `source`.
 void validate_mesh(const Mesh& mesh, const std::string& source);

@@ -18,8 +18,11 @@ namespace subdivtrace {
 /// out-of-range indices, NaN/Inf values, no faces); never allocates more than a
 /// fixed multiple of the file size. Recoverable oddities (polygons, dropped
 /// triangles that repeat a vertex, ignored statements) are appended to
-/// `warnings`, each prefixed with the path.
-Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
+/// `warnings`, each prefixed with the path. Coincident vertices are welded as
+/// `weld` says (mesh_from_arrays; by default bit-identical positions become one
+/// vertex, including an STL file's), and `report` (optional) counts them.
+Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nullptr,
+               const WeldOptions& weld = {}, WeldReport* report = nullptr);
 
 /// Writes `mesh` in the format of the extension (.obj .off .ply .stl). Normals
 /// go where the format has them: OBJ `vn` (deduplicated, per corner), PLY

@@ -51,7 +51,10 @@ Camera frame_bounds(const Bounds3& b, int width, int height, double fov_degrees)
     c.height = height;
     c.fov_degrees = fov_degrees;
     const Vec3 centre = (b.lo + b.hi) * 0.5;
-    const double radius = std::max(0.5 * glm::length(b.hi - b.lo), 1e-9);
+    // Any positive size frames (a mesh of scale 1e-11 too); a single point
+    // gets a radius relative to where it is.
+    const double size = 0.5 * glm::length(b.hi - b.lo);
+    const double radius = size > 0.0 ? size : std::max(1e-9 * glm::length(centre), 1e-300);
     // Fit the bounding sphere in the narrower field of view, with a margin.
     const double half = 0.5 * fov_degrees * k_pi / 180.0;
     const double vertical = std::atan(std::tan(half) * height / std::max(width, 1));

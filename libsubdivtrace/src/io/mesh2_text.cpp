@@ -1,0 +1,93 @@
+// POV-Ray mesh2 text and identifiers (mesh_io.h).
+#include <cctype>
+#include <cstdio>
+#include <stdexcept>
+
+#include "io/io_util.h"
+#include "subdivtrace/mesh_io.h"
+
+namespace subdivtrace {
+
+bool is_pov_identifier(const std::string& text) {
+    if (text.empty() || text.size() > 40 || !std::isalpha(static_cast<unsigned char>(text[0])))
+        return false;
+    for (char c : text)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+    return true;
+}
+
+std::string pov_identifier(const std::string& text) {
+    std::string id;
+    for (char c : text) {
+        const auto u = static_cast<unsigned char>(c);
+        id += (u < 128 && (std::isalnum(u) || c == '_')) ? c : '_';
+    }
+    if (id.empty() || !std::isalpha(static_cast<unsigned char>(id[0]))) id = "Mesh_" + id;
+    id[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(id[0])));
+    if (id.size() > 40) id.resize(40);
+    return id;
+}
+
+std::string mesh2_text(const Mesh& mesh, const std::string& ident) {
+    if (!is_pov_identifier(ident))
+        throw std::invalid_argument("not a POV-Ray identifier: '" + ident + "'");
+    validate_mesh(mesh, "mesh2 " + ident);
+    io::Dedup<Vec3, 3> normals;
+    io::Dedup<Vec2, 2> uvs;
+    std::vector<std::uint32_t> ni, ti;
+    for (const Vec3& n : mesh.corner_normals) ni.push_back(normals.add(n));
+    for (const Vec2& t : mesh.corner_uvs) ti.push_back(uvs.add(t));
+
+    std::string out;
+    out.reserve(80 * mesh.positions.size() + 40 * mesh.triangles.size() * 3);
+    char buf[128];
+    auto emit = [&](const char* fmt, auto... args) {
+        std::snprintf(buf, sizeof buf, fmt, args...);
+        out += buf;
+    };
+    emit("// subdivtrace: %zu vertices, %zu triangles\n", mesh.positions.size(),
+         mesh.triangles.size());
+    out += "#declare " + ident + " = mesh2 {\n";
+    auto section = [&](const char* name, std::size_t count, auto&& item) {
+        emit("  %s {\n    %zu", name, count);
+        for (std::size_t i = 0; i < count; ++i) {
+            out += ",\n    ";
+            item(i);
+        }
+        out += "\n  }\n";
+    };
+    section("vertex_vectors", mesh.positions.size(), [&](std::size_t i) {
+        const Vec3& p = mesh.positions[i];
+        emit("<%.17g, %.17g, %.17g>", p.x, p.y, p.z);
+    });
+    if (mesh.has_normals())
+        section("normal_vectors", normals.values.size(), [&](std::size_t i) {
+            const Vec3& n = normals.values[i];
+            emit("<%.17g, %.17g, %.17g>", n.x, n.y, n.z);
+        });
+    if (mesh.has_uvs())
+        section("uv_vectors", uvs.values.size(),
+                [&](std::size_t i) { emit("<%.17g, %.17g>", uvs.values[i].x, uvs.values[i].y); });
+    const std::size_t nt = mesh.triangles.size();
+    section("face_indices", nt, [&](std::size_t i) {
+        const Triangle& t = mesh.triangles[i];
+        emit("<%u, %u, %u>", t[0], t[1], t[2]);
+    });
+    if (mesh.has_normals())
+        section("normal_indices", nt, [&](std::size_t i) {
+            emit("<%u, %u, %u>", ni[3 * i], ni[3 * i + 1], ni[3 * i + 2]);
+        });
+    if (mesh.has_uvs())
+        section("uv_indices", nt, [&](std::size_t i) {
+            emit("<%u, %u, %u>", ti[3 * i], ti[3 * i + 1], ti[3 * i + 2]);
+        });
+    out += "}\n";
+    return out;
+}
+
+void write_mesh2(const std::string& path, const Mesh& mesh, const std::string& ident) {
+    const std::string text = mesh2_text(mesh, ident);
+    io::write_atomically(path, [&](std::FILE* f) { std::fwrite(text.data(), 1, text.size(), f); });
+}
+
+}  // namespace subdivtrace

@@ -1,0 +1,155 @@
+// Mesh files out: OBJ, OFF, binary PLY, binary STL (mesh_io.h).
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+
+#include "io/io_util.h"
+#include "subdivtrace/mesh_io.h"
+
+namespace subdivtrace {
+
+namespace {
+
+using io::Dedup;
+
+void put_le(std::FILE* f, std::uint64_t bits, int bytes) {
+    unsigned char b[8];
+    for (int i = 0; i < bytes; ++i) b[i] = static_cast<unsigned char>(bits >> (8 * i));
+    std::fwrite(b, 1, static_cast<std::size_t>(bytes), f);
+}
+void put_f64(std::FILE* f, double d) {
+    std::uint64_t u;
+    std::memcpy(&u, &d, 8);
+    put_le(f, u, 8);
+}
+void put_f32(std::FILE* f, double d) {
+    const float x = static_cast<float>(d);
+    std::uint32_t u;
+    std::memcpy(&u, &x, 4);
+    put_le(f, u, 4);
+}
+
+void write_obj(std::FILE* f, const Mesh& mesh) {
+    std::fprintf(f, "# subdivtrace: %zu vertices, %zu triangles\n", mesh.positions.size(),
+                 mesh.triangles.size());
+    for (const Vec3& p : mesh.positions) std::fprintf(f, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
+    Dedup<Vec2, 2> uvs;
+    Dedup<Vec3, 3> normals;
+    std::vector<std::uint32_t> vt, vn;
+    for (const Vec2& t : mesh.corner_uvs) vt.push_back(uvs.add(t));
+    for (const Vec3& n : mesh.corner_normals) vn.push_back(normals.add(n));
+    for (const Vec2& t : uvs.values) std::fprintf(f, "vt %.17g %.17g\n", t.x, t.y);
+    for (const Vec3& n : normals.values) std::fprintf(f, "vn %.17g %.17g %.17g\n", n.x, n.y, n.z);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        std::fputc('f', f);
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t c = 3 * t + static_cast<std::size_t>(k);
+            std::fprintf(f, " %u", mesh.triangles[t][static_cast<std::size_t>(k)] + 1);
+            if (!vt.empty()) std::fprintf(f, "/%u", vt[c] + 1);
+            if (!vn.empty()) std::fprintf(f, vt.empty() ? "//%u" : "/%u", vn[c] + 1);
+        }
+        std::fputc('\n', f);
+    }
+}
+
+void write_off(std::FILE* f, const Mesh& mesh) {
+    std::fprintf(f, "OFF\n%zu %zu 0\n", mesh.positions.size(), mesh.triangles.size());
+    for (const Vec3& p : mesh.positions) std::fprintf(f, "%.17g %.17g %.17g\n", p.x, p.y, p.z);
+    for (const Triangle& t : mesh.triangles) std::fprintf(f, "3 %u %u %u\n", t[0], t[1], t[2]);
+}
+
+void write_ply(std::FILE* f, const Mesh& mesh) {
+    // Per-vertex attributes: a corner value if all of a vertex's corners agree,
+    // else (normals only) their normalised average.
+    const std::size_t nv = mesh.positions.size();
+    std::vector<Vec3> normals(mesh.has_normals() ? nv : 0, Vec3(0.0));
+    std::vector<Vec2> uvs(mesh.has_uvs() ? nv : 0, Vec2(0.0));
+    std::vector<unsigned char> seen(nv, 0), normal_agree(nv, 1), uv_agree(nv, 1);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::uint32_t v = mesh.triangles[t][k];
+            const std::size_t c = 3 * t + k;
+            if (mesh.has_normals()) {
+                if (seen[v] && normals[v] != mesh.corner_normals[c]) normal_agree[v] = 0;
+                if (!seen[v]) normals[v] = mesh.corner_normals[c];
+            }
+            if (mesh.has_uvs()) {
+                if (seen[v] && uvs[v] != mesh.corner_uvs[c]) uv_agree[v] = 0;
+                if (!seen[v]) uvs[v] = mesh.corner_uvs[c];
+            }
+            seen[v] = 1;
+        }
+    if (mesh.has_normals()) {
+        std::vector<Vec3> sum(nv, Vec3(0.0));
+        for (std::size_t c = 0; c < mesh.corner_normals.size(); ++c)
+            sum[mesh.triangles[c / 3][c % 3]] += mesh.corner_normals[c];
+        for (std::size_t v = 0; v < nv; ++v)
+            if (!normal_agree[v]) {
+                const double len = glm::length(sum[v]);
+                normals[v] = len > 0.0 ? sum[v] / len : Vec3(0.0);
+            }
+    }
+    const bool write_uv =
+        mesh.has_uvs() && std::all_of(uv_agree.begin(), uv_agree.end(), [](auto a) { return a; });
+
+    std::fprintf(f,
+                 "ply\nformat binary_little_endian 1.0\ncomment subdivtrace\n"
+                 "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n",
+                 nv);
+    if (mesh.has_normals())
+        std::fputs("property double nx\nproperty double ny\nproperty double nz\n", f);
+    if (write_uv) std::fputs("property double u\nproperty double v\n", f);
+    std::fprintf(f, "element face %zu\nproperty list uchar uint vertex_indices\nend_header\n",
+                 mesh.triangles.size());
+    for (std::size_t v = 0; v < nv; ++v) {
+        for (int i = 0; i < 3; ++i) put_f64(f, mesh.positions[v][i]);
+        if (mesh.has_normals())
+            for (int i = 0; i < 3; ++i) put_f64(f, normals[v][i]);
+        if (write_uv)
+            for (int i = 0; i < 2; ++i) put_f64(f, uvs[v][i]);
+    }
+    for (const Triangle& t : mesh.triangles) {
+        put_le(f, 3, 1);
+        for (std::uint32_t v : t) put_le(f, v, 4);
+    }
+}
+
+void write_stl(std::FILE* f, const Mesh& mesh) {
+    char header[80] = {};
+    std::snprintf(header, sizeof header, "subdivtrace binary STL");
+    std::fwrite(header, 1, 80, f);
+    put_le(f, mesh.triangles.size(), 4);
+    for (const Triangle& t : mesh.triangles) {
+        const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+        Vec3 n = glm::cross(b - a, c - a);
+        const double len = glm::length(n);
+        n = len > 0.0 && std::isfinite(len) ? n / len : Vec3(0.0);
+        for (int i = 0; i < 3; ++i) put_f32(f, n[i]);
+        for (const Vec3* p : {&a, &b, &c})
+            for (int i = 0; i < 3; ++i) put_f32(f, (*p)[i]);
+        put_le(f, 0, 2);
+    }
+}
+
+}  // namespace
+
+void write_mesh(const std::string& path, const Mesh& mesh) {
+    const std::string ext = io::extension_of(path);
+    if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
+        io::fail(path, "cannot write format '" + ext + "' (expected .obj, .off, .ply or .stl)");
+    validate_mesh(mesh, path);
+    io::write_atomically(path, [&](std::FILE* f) {
+        if (ext == "obj")
+            write_obj(f, mesh);
+        else if (ext == "off")
+            write_off(f, mesh);
+        else if (ext == "ply")
+            write_ply(f, mesh);
+        else
+            write_stl(f, mesh);
+    });
+}
+
+}  // namespace subdivtrace

@@ -1,0 +1,43 @@
+// Inputs the libFuzzer harnesses (tests/fuzz) found, pinned as plain tests so
+// they are read without the fuzzer: the tracer harness's crashes, decoded into
+// the mesh, options and ray they built. (The readers' inputs are files, read
+// by the "[fuzz]" test in test_mesh_io.cpp.)
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "subdivtrace/mesh.h"
+#include "subdivtrace/tracer.h"
+
+using namespace subdivtrace;
+
+TEST_CASE("fuzz regression: butterfly on five triangles over one non-manifold edge",
+          "[fuzz][tracer][!shouldfail]") {
+    // tests/fuzz/regressions/trace/butterfly_nonmanifold_fan: intersect()
+    // threw std::logic_error "subdivtrace tile: an edge point next to a corner
+    // outside the patch's complete region" (the tracing path must never
+    // throw). Tagged !shouldfail until the tile code is fixed; it then passes,
+    // which Catch reports as a failure: remove the tag.
+    MeshArrays a;
+    a.positions = {{4060.6980231178895, -10347.809884752507, 9119.986621959024},
+                   {21050.576124940693, -3429.1967600287608, 5931.8030970320542},
+                   {6611.6042525064713, -20660.143398567012, -1620.9059147124053},
+                   {11950.261952028563, -18125.884679736868, 547.4418862542243}};
+    a.face_indices = {{1, 0, 2}, {0, 1, 2}, {0, 1, 3}, {2, 0, 1}, {1, 0, 3}};
+    const Mesh mesh = mesh_from_arrays(a, "fuzz");
+    SurfaceOptions o;
+    o.scheme = SchemeKind::butterfly;
+    o.max_level = 4;
+    o.tolerance = 4.2842462080649835;
+    o.cache_mb = 4;
+    o.view.pixel_angle = 0.017880425572252522;
+    o.view.camera = Vec3(1277.5685992553426, 9772.5930052410822, -8401.7597661918044);
+    const AdaptiveSurface surface(mesh, o);
+    Ray ray;
+    ray.origin = Vec3(24414.613421814065, -1971.5870005094603, 9969.2174446217141);
+    ray.direction = Vec3(-0.45748196889175152, -0.58761313530981685, -0.66739871991957955);
+    Hit hit;
+    bool found = false;
+    CHECK_NOTHROW(found = surface.intersect(ray, hit));
+    if (found) CHECK(std::isfinite(hit.t));
+}
