@@ -12,12 +12,13 @@
 using namespace subdivtrace;
 
 TEST_CASE("fuzz regression: butterfly on five triangles over one non-manifold edge",
-          "[fuzz][tracer][!shouldfail]") {
+          "[fuzz][tracer]") {
     // tests/fuzz/regressions/trace/butterfly_nonmanifold_fan: intersect()
     // threw std::logic_error "subdivtrace tile: an edge point next to a corner
     // outside the patch's complete region" (the tracing path must never
-    // throw). Tagged !shouldfail until the tile code is fixed; it then passes,
-    // which Catch reports as a failure: remove the tag.
+    // throw): two of the five triangles are the same base triangle twice, and
+    // a tile merged their face points. Fixed in patch.cpp (an edge inside a
+    // base triangle belongs to that triangle alone).
     MeshArrays a;
     a.positions = {{4060.6980231178895, -10347.809884752507, 9119.986621959024},
                    {21050.576124940693, -3429.1967600287608, 5931.8030970320542},
