@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds everything and runs every test: the library's unit and property
 # tests, the patched POV-Ray's integration tests, then the unit tests again
-# under ASan+UBSan, the threaded ones under TSan, and a bounded libFuzzer run.
+# under ASan+UBSan, the threaded ones under TSan, the quick compare/ sweep
+# (adaptive, uniform and Embree on both views) and a bounded libFuzzer run.
 #   bash scripts/test.sh            (what CI runs, via .ci/run)
 # Build trees: build/ (Release), build-asan/, build-tsan/, build-fuzz/. Exit status is
 # non-zero on any failure.
@@ -38,6 +39,9 @@ cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSUBDIVTRACE_SANITIZ
     -DSUBDIVTRACE_BUILD_BENCH=OFF -DSUBDIVTRACE_BUILD_POVRAY=OFF > /dev/null
 cmake --build build-tsan -j "$jobs" --target subdivtrace_tests
 TSAN_OPTIONS=halt_on_error=1 build-tsan/tests/subdivtrace_tests "[threads]"
+
+step "compare/: the quick sweep (adaptive, uniform, Embree; both views; report in build/compare)"
+bash compare/run.sh build --quick --no-povray
 
 step "fuzzing: every mesh reader and the tracer, 100 s of runs in all (tests/fuzz/run.sh)"
 bash tests/fuzz/run.sh 100
