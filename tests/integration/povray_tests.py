@@ -104,7 +104,7 @@ class Context:
     def path(self, name):
         return os.path.join(self.work, name)
 
-    def render(self, name, scene, threads=1, expect_ok=True, extra=()):
+    def render(self, name, scene, threads=1, expect_ok=True, extra=(), size=(WIDTH, HEIGHT)):
         """Writes scene to NAME.pov, renders NAME.ppm; returns (rc, stderr, image, seconds)."""
         pov = self.path(name + ".pov")
         out = self.path(name + ".ppm")
@@ -112,7 +112,7 @@ class Context:
             f.write(scene)
         if os.path.exists(out):
             os.remove(out)
-        cmd = [self.povray, "+I" + pov, "+O" + out, "+FP", "+W%d" % WIDTH, "+H%d" % HEIGHT,
+        cmd = [self.povray, "+I" + pov, "+O" + out, "+FP", "+W%d" % size[0], "+H%d" % size[1],
                "-D", "-V", "+WT%d" % threads, "+L" + self.include, "+L" + self.work]
         cmd += list(extra)
         start = time.monotonic()
@@ -332,15 +332,26 @@ def test_open_mesh(ctx):
         raise Failure("open mesh not visible")
 
 
+NO_MESH = object()  # marks a bad case whose block has no mesh2
+
 BAD_CASES = {
-    # name: (lines of the subdivision_mesh block, 1-based line within the
-    #        block that the error must name, text the message must contain)
+    # name: (lines of the subdivision_mesh block after its mesh2 (or, with
+    #        NO_MESH first, instead of it), 1-based line among them that the
+    #        error must name, text the message must contain)
     "negative_tolerance": (["  tolerance -0.5"], 1, "tolerance must be positive"),
     "zero_tolerance": (["  tolerance 0"], 1, "tolerance must be positive"),
     "negative_max_level": (["  max_level -1"], 1, "max_level must be an integer"),
     "max_level_over_cap": (["  max_level {cap_plus_one}"], 1, "max_level must be an integer from 0 to {cap}"),
     "unknown_scheme": (["  scheme catmull"], 1, "Unknown subdivision scheme"),
-    "cache_mb_zero": (["  cache_mb 0"], 1, "cache_mb must be at least 1"),
+    "cache_mb_zero": (["  cache_mb 0"], 1, "cache_mb must be from 1 to 1048576 (it is 0)"),
+    "cache_mb_huge": (["  cache_mb 1e30"], 1, "cache_mb must be from 1 to 1048576 (it is 1e+30)"),
+    "empty_file_name": ([NO_MESH, '  file ""'], 1, "subdivision_mesh file name is empty"),
+    "undeclared_identifier": ([NO_MESH, "  Not_Declared_Mesh"], 1, "undeclared identifier 'Not_Declared_Mesh'"),
+    "not_a_mesh": ([NO_MESH, "  Ball"], 1, "'Ball' is another kind of object"),
+    "repeated_scheme": (["  scheme loop", "  scheme butterfly"], 2, "scheme is given more than once"),
+    "repeated_tolerance": (["  tolerance 1", "  max_level 3", "  tolerance 2"], 3,
+                           "tolerance is given more than once"),
+    "texture_index_out_of_range": ("bad_texture", 0, "Texture index out of range"),
     "missing_file": (None, 0, "no_such_mesh.obj"),
     "index_out_of_range": ("bad_index", 0, "mesh2"),
 }
@@ -365,6 +376,7 @@ def bad_case_test(ctx, name):
     text = text.format(cap=cap)
     head = SCENE_HEADER.splitlines()
     scene = list(head)
+    scene.append("#declare Ball = sphere { 0, 1 }")
     scene.append("// the object under test")
     first = len(scene) + 1  # line number of "subdivision_mesh {"
     if lines is None:
@@ -375,6 +387,15 @@ def bad_case_test(ctx, name):
         scene += ["subdivision_mesh {", "  mesh2 { %s }" % mesh2_body(verts, bad_faces).replace("\n", " "),
                   "  pigment { rgb 1 }", "}"]
         expect_line = first + 1
+    elif lines == "bad_texture":
+        body = mesh2_body(verts, faces).replace("\n", " ")
+        body = body.replace("face_indices { 20, <0, 11, 5>", "texture_list { 1, texture { pigment { rgb 1 } } } "
+                            "face_indices { 20, <0, 11, 5>, 1")
+        scene += ["subdivision_mesh {", "  mesh2 { %s }" % body, "  pigment { rgb 1 }", "}"]
+        expect_line = first + 1
+    elif lines[0] is NO_MESH:
+        scene += ["subdivision_mesh {"] + lines[1:] + ["  pigment { rgb 1 }", "}"]
+        expect_line = first + rel_line
     else:
         scene += ["subdivision_mesh {", "  mesh2 { %s }" % mesh2_body(verts, faces).replace("\n", " ")]
         scene += [l.format(cap_plus_one=cap + 1) for l in lines]
@@ -470,6 +491,334 @@ def test_no_shadow_acne(ctx):
     assert_close("shadows vs no_shadow", images[0], images[1], 0.001, 0.1)
 
 
+# Flat-lit scenes: no shadows, no reflections, so a pixel depends only on the
+# object it shows (used to compose solo renders into the expected image).
+FLAT_HEADER = """#version 3.7;
+global_settings { assumed_gamma 1.0 }
+light_source { <4, 6, -5> rgb 1 shadowless }
+background { rgb <0.15, 0.18, 0.25> }
+"""
+
+
+def compose(images, empty):
+    """Per pixel: the first image that differs from the empty render there."""
+    w, h, bg = empty
+    out = bytearray(bg)
+    for i in range(0, len(bg), 3):
+        for _, _, p in images:
+            if p[i:i + 3] != bg[i:i + 3]:
+                out[i:i + 3] = p[i:i + 3]
+                break
+    return (w, h, bytes(out))
+
+
+def deepest_level(err):
+    m = re.search(r"deepest level reached:\s+(-?\d+)", err)
+    if not m:
+        raise Failure("render summary lacks 'deepest level reached'")
+    return int(m.group(1))
+
+
+def copies_test(ctx, camera):
+    """Two copies of one declared surface at scales 1 and 8 are each refined
+    for their own footprint: rendered together, each copy's pixels equal
+    those of the copy rendered alone, and alone they reach different levels
+    (the larger one covers more pixels and refines deeper)."""
+    verts, faces, normals, uvs = icosahedron()
+    decl = ("#declare S = subdivision_mesh { mesh2 { %s } max_level 10 tolerance 1 "
+            "pigment { rgb <1, 0.55, 0.2> } finish { specular 0.4 } }\n" % mesh2_body(verts, faces))
+    small = "object { S rotate <20, 30, 0> translate <-10, 3, 0> }\n"
+    large = "object { S rotate <20, 30, 0> scale 8 translate <4, 0, 10> }\n"
+    head = FLAT_HEADER + camera + decl
+    tag = camera.split()[2]
+    _, _, both, _ = ctx.render("both_" + tag, head + small + large)
+    _, err_small, alone_small, _ = ctx.render("small_" + tag, head + small)
+    _, err_large, alone_large, _ = ctx.render("large_" + tag, head + large)
+    _, _, empty, _ = ctx.render("empty_" + tag, head)
+    levels = deepest_level(err_small), deepest_level(err_large)
+    print("  deepest level alone: scale 1 -> %d, scale 8 -> %d" % levels)
+    if not levels[1] > levels[0]:
+        raise Failure("the scale-8 copy does not refine deeper than the scale-1 copy: %s" % (levels,))
+    expected = compose([alone_small, alone_large], empty)
+    fraction, mean, largest = compare(both, expected)
+    differ = sum(1 for i in range(0, len(both[2]), 3) if both[2][i:i + 3] != expected[2][i:i + 3])
+    print("  together vs each alone: %d pixels differ" % differ)
+    if differ:
+        raise Failure("copies rendered together differ from each alone in %d pixels (max %d/255)"
+                      % (differ, largest))
+
+
+def test_copies_own_view_perspective(ctx):
+    copies_test(ctx, "camera { perspective location <0, 2, -40> look_at <0, 0, 0> angle 40 }\n")
+
+
+def test_copies_own_view_orthographic(ctx):
+    copies_test(ctx, "camera { orthographic location <0, 2, -40> look_at <0, 0, 0> "
+                     "right x*34 up y*25.5 }\n")
+
+
+TEXTURE_LIST = ("texture_list { 3, texture { pigment { rgb <1, 0.2, 0.1> } finish { specular 0.3 } }, "
+                "texture { pigment { rgb <0.2, 0.9, 0.3> } }, "
+                "texture { uv_mapping pigment { checker rgb <0.2, 0.3, 1> rgb 1 scale 0.125 } } }")
+
+
+def textured_body(verts, faces, uvs, per_vertex):
+    """mesh2 body (vertex normals = the sphere's) with a texture_list:
+    per_vertex gives each face its corners' indices (vertex index mod 3,
+    blended across the face), else one index per face (face index mod 3);
+    half the faces of the one-index kind have none."""
+    parts = ["vertex_vectors { %d, %s }" % (len(verts), ", ".join(fmt_vec(v) for v in verts)),
+             "normal_vectors { %d, %s }" % (len(verts), ", ".join(fmt_vec(v) for v in verts))]
+    if uvs:
+        parts.append("uv_vectors { %d, %s }" % (len(uvs), ", ".join(fmt_vec(u) for u in uvs)))
+    parts.append(TEXTURE_LIST)
+    items = []
+    for i, f in enumerate(faces):
+        if per_vertex:
+            items.append("<%d, %d, %d>, %d, %d, %d" % (f + tuple(v % 3 for v in f)))
+        elif i % 2:
+            items.append("<%d, %d, %d>, %d" % (f + (i % 3,)))
+        else:
+            items.append("<%d, %d, %d>" % f)
+    parts.append("face_indices { %d, %s }" % (len(faces), ", ".join(items)))
+    return "\n    ".join(parts)
+
+
+def level0_pair(ctx, name, body, mods, native_extra="", header=SCENE_HEADER):
+    """Renders mesh2 { body } and subdivision_mesh { mesh2 { body } max_level 0 }
+    with the same modifiers; asserts they match like level0_equals_mesh2."""
+    native = header + "mesh2 { %s %s %s }\n" % (body, native_extra, mods)
+    subdiv = header + "subdivision_mesh { mesh2 { %s %s } max_level 0 %s }\n" % (body, native_extra, mods)
+    _, _, a, _ = ctx.render("native_" + name, native)
+    _, _, b, _ = ctx.render("subdiv_" + name, subdiv)
+    differ = sum(1 for i in range(0, len(a[2]), 3) if a[2][i:i + 3] != b[2][i:i + 3])
+    print("  %s: %d of %d pixels not identical" % (name, differ, WIDTH * HEIGHT))
+    assert_close("%s: level 0 vs mesh2" % name, a, b, SAME_FRACTION, SAME_MEAN)
+
+
+def test_texture_list_equals_mesh2(ctx):
+    """texture_list with one texture index per face (the rest take the
+    object's texture) and with three (blended across the face), and
+    uv_mapping: at max_level 0 the same picture as mesh2."""
+    verts, faces, normals, uvs = icosahedron()
+    mods = "pigment { rgb 0.7 } rotate <20, 30, 0> scale 1.2"
+    level0_pair(ctx, "per_face", textured_body(verts, faces, uvs, False), mods)
+    level0_pair(ctx, "per_vertex", textured_body(verts, faces, uvs, True), mods)
+
+
+def test_uv_without_uv_vectors_equals_mesh2(ctx):
+    """Without uv_vectors mesh2's uv is (0, 0) everywhere; so is ours: a
+    uv-mapped gradient renders the same at max_level 0."""
+    verts, faces, normals, uvs = icosahedron()
+    mods = ("texture { uv_mapping pigment { gradient <1, 1, 0> color_map { [0 rgb <1, 0, 0>] "
+            "[1 rgb <0, 0, 1>] } translate 0.5 } } rotate <20, 30, 0> scale 1.2")
+    level0_pair(ctx, "no_uv", mesh2_body(verts, faces, normals), mods)
+
+
+def test_inside_vector_equals_mesh2(ctx):
+    """inside_vector as mesh2 uses it: an open mesh with one becomes a solid
+    whose inside is the parity of crossings along it (CSG intersection with
+    a box), the same picture as mesh2 with the same inside_vector."""
+    verts, faces, normals, uvs = icosahedron()
+    open_faces = [f for f in faces if 3 not in f]
+    # Gouraud normals of the open mesh: what the normal scheme computes.
+    body = mesh2_body(verts, open_faces, gouraud_normals(verts, open_faces))
+    mat = "pigment { rgb <1, 0.55, 0.2> } finish { specular 0.3 }"
+    xform = "rotate <20, 30, 0> scale 1.2"
+    box = "box { <-0.6, -2, -2>, <2, 2, 2> }"
+    native = SCENE_HEADER + "intersection { mesh2 { %s inside_vector <0.3, 0.5, 0.81> } %s %s %s }\n" % (
+        body, box, mat, xform)
+    subdiv = SCENE_HEADER + ("intersection { subdivision_mesh { mesh2 { %s inside_vector <0.3, 0.5, 0.81> } "
+                             "max_level 0 } %s %s %s }\n" % (body, box, mat, xform))
+    _, _, a, _ = ctx.render("native_inside_vector", native)
+    _, _, b, _ = ctx.render("subdiv_inside_vector", subdiv)
+    assert_close("inside_vector vs mesh2", a, b, SAME_FRACTION, SAME_MEAN)
+
+
+def largest_jump(image, background):
+    """Largest channel difference between horizontally or vertically adjacent
+    pixels that both show the object (not the background)."""
+    w, h, p = image
+
+    def on(i):
+        return max(abs(p[i + c] - background[c]) for c in range(3)) > 2
+    largest = 0
+    for y in range(h - 1):
+        for x in range(w - 1):
+            i = 3 * (y * w + x)
+            if not on(i):
+                continue
+            for j in (i + 3, i + 3 * w):
+                if on(j):
+                    largest = max(largest, max(abs(p[i + c] - p[j + c]) for c in range(3)))
+    return largest
+
+
+def test_texture_blend_continuous(ctx):
+    """At higher levels the blended texture_list stays continuous across base
+    edges (weights are barycentric on the base triangle at every level):
+    lit by ambient light only, no two adjacent pixels of the surface differ
+    by more than a small step, while one texture per face (the control)
+    shows jumps at the base edges."""
+    verts, faces, normals, uvs = icosahedron()
+    flat = FLAT_HEADER.replace("rgb 1 shadowless", "rgb 0") + \
+        "camera { location <0, 0.4, -4> look_at <0, 0, 0> angle 40 }\n"
+    lists = {"blend": textured_body(verts, faces, None, True),
+             "per_face": textured_body(verts, faces, None, False)}
+    flat_list = ("texture_list { 3, texture { pigment { rgb <1, 0.2, 0.1> } finish { ambient 1 diffuse 0 } }, "
+                 "texture { pigment { rgb <0.2, 0.9, 0.3> } finish { ambient 1 diffuse 0 } }, "
+                 "texture { pigment { rgb <0.2, 0.3, 1> } finish { ambient 1 diffuse 0 } } }")
+    _, _, empty, _ = ctx.render("jump_empty", flat)
+    jumps = {}
+    for name, body in lists.items():
+        body = body.replace(TEXTURE_LIST, flat_list)
+        scene = flat + ("subdivision_mesh { mesh2 { %s } max_level 5 tolerance 1 "
+                        "texture { pigment { rgb 0.5 } finish { ambient 1 diffuse 0 } } "
+                        "rotate <20, 30, 0> scale 1.2 }\n" % body)
+        _, err, image, _ = ctx.render("jump_" + name, scene)
+        jumps[name] = largest_jump(image, empty[2][0:3])
+        print("  %s: deepest level %d, largest step between adjacent pixels %d/255"
+              % (name, deepest_level(err), jumps[name]))
+    if jumps["per_face"] < 100:
+        raise Failure("control without blending shows no jump (%d/255): test cannot see one" % jumps["per_face"])
+    if jumps["blend"] > 40:
+        raise Failure("blended textures jump by %d/255 between adjacent pixels" % jumps["blend"])
+
+
+def test_declared_mesh(ctx):
+    """subdivision_mesh { MESH_IDENTIFIER max_level 0 } takes a mesh declared
+    with mesh2 (normals, uvs, texture_list, its transformation) or with mesh
+    (smooth_triangle, some with textures): the same picture as the declared
+    mesh itself."""
+    verts, faces, normals, uvs = icosahedron()
+    body = textured_body(verts, faces, uvs, True)
+    header = SCENE_HEADER + "#declare M2 = mesh2 { %s rotate <20, 30, 0> }\n" % body
+    mods = "pigment { rgb 0.7 } scale 1.2"
+    _, _, a, _ = ctx.render("native_decl_mesh2", header + "object { M2 %s }\n" % mods)
+    _, _, b, _ = ctx.render("subdiv_decl_mesh2", header + "subdivision_mesh { M2 max_level 0 %s }\n" % mods)
+    assert_close("declared mesh2", a, b, SAME_FRACTION, SAME_MEAN)
+    # Smooth triangles with the sphere's normals (flat ones would differ:
+    # the library's normal scheme computes its own normals).
+    tris = []
+    for i, (p, q, r) in enumerate(faces):
+        tris.append("smooth_triangle { %s, %s, %s, %s, %s, %s %s }" % (
+            fmt_vec(verts[p]), fmt_vec(normals[p]), fmt_vec(verts[q]), fmt_vec(normals[q]),
+            fmt_vec(verts[r]), fmt_vec(normals[r]), "texture { T%d }" % (i % 3) if i % 2 else ""))
+    header = (SCENE_HEADER +
+              "#declare T0 = texture { pigment { rgb <1, 0.2, 0.1> } }\n"
+              "#declare T1 = texture { pigment { rgb <0.2, 0.9, 0.3> } }\n"
+              "#declare T2 = texture { pigment { rgb <0.2, 0.3, 1> } }\n"
+              "#declare M1 = mesh { %s inside_vector <0, 0, 1> }\n" % "\n  ".join(tris))
+    mods = "pigment { rgb 0.7 } rotate <20, 30, 0> scale 1.2"
+    _, _, a, _ = ctx.render("native_decl_mesh", header + "object { M1 %s }\n" % mods)
+    _, _, b, _ = ctx.render("subdiv_decl_mesh", header + "subdivision_mesh { M1 max_level 0 %s }\n" % mods)
+    assert_close("declared mesh", a, b, SAME_FRACTION, SAME_MEAN)
+
+
+def read_obj(path):
+    verts, faces = [], []
+    with open(path) as f:
+        for line in f:
+            t = line.split()
+            if t and t[0] == "v":
+                verts.append(tuple(float(x) for x in t[1:4]))
+            elif t and t[0] == "f":
+                faces.append(tuple(int(x.split("/")[0]) - 1 for x in t[1:4]))
+    return verts, faces
+
+
+def gouraud_normals(verts, faces):
+    """Angle-weighted vertex normals (the normal scheme's level-0 normals)."""
+    def sub(a, b):
+        return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+    def unit(a):
+        n = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+        return (a[0] / n, a[1] / n, a[2] / n)
+    sums = [[0.0, 0.0, 0.0] for _ in verts]
+    for f in faces:
+        e1, e2 = sub(verts[f[1]], verts[f[0]]), sub(verts[f[2]], verts[f[0]])
+        n = unit((e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]))
+        for i in range(3):
+            a = unit(sub(verts[f[(i + 1) % 3]], verts[f[i]]))
+            b = unit(sub(verts[f[(i + 2) % 3]], verts[f[i]]))
+            angle = math.acos(max(-1.0, min(1.0, a[0] * b[0] + a[1] * b[1] + a[2] * b[2])))
+            for c in range(3):
+                sums[f[i]][c] += angle * n[c]
+    return [unit(tuple(s)) if any(s) else (0.0, 0.0, 1.0) for s in sums]  # unused vertices: any
+
+
+ACNE_SIZE = (320, 240)
+ACNE_HEADER = """#version 3.7;
+global_settings { assumed_gamma 1.0 }
+camera { location <0, 1.5, -6.5> look_at <0, 0.25, 0> right x*4/3 angle 40 }
+#ifndef (No_Light) light_source { <4, 6, -5> rgb 1 } #end
+background { rgb <0.15, 0.18, 0.25> }
+"""
+ACNE_LOOK = "texture { pigment { rgb 0.8 } finish { ambient 0.1 diffuse 0.8 } } rotate y*-30"
+
+
+def shadow_pixels(ctx, name, obj):
+    """Renders obj lit, with no_shadow, and without the light; returns the
+    set of pixels darker than the no_shadow render (by > 2/255) and the set
+    of 'dark' pixels: those where the shadow removed over half of what the
+    light adds (> 10/255) there."""
+    images = []
+    for tag, flag, extra in (("shadow", "", ()), ("no_shadow", "no_shadow", ()),
+                             ("unlit", "", ("Declare=No_Light=1",))):
+        scene = ACNE_HEADER + obj.replace("LOOK", ACNE_LOOK + " " + flag) + "\n"
+        images.append(ctx.render("%s_%s" % (name, tag), scene, extra=extra, size=ACNE_SIZE)[2])
+    lit, free, unlit = [[max(p[i:i + 3]) for i in range(0, len(p), 3)] for _, _, p in images]
+    darker = {i for i in range(len(lit)) if free[i] - lit[i] > 2}
+    dark = {i for i in darker if free[i] - unlit[i] > 10 and free[i] - lit[i] > 0.5 * (free[i] - unlit[i])}
+    print("  %s: %d dark pixels, %d darker than no_shadow" % (name, len(dark), len(darker)))
+    return dark, darker
+
+
+def test_shadow_acne_nonconvex(ctx):
+    """Secondary rays ignore the surface they left (within the hit's error
+    bound), on a non-convex mesh (data/bunny_lowpoly.obj, 320x240): at
+    max_level 0 the shadowed pixels are exactly those of mesh2 with the same
+    vertex normals (smooth shading shadows itself at the terminator there,
+    in mesh2 too); at max_level 2 with every ray refined to level 2, and
+    adaptively at max_level 6, every pixel darker than the no_shadow render
+    is also shadowed in the uniform level-2 mesh2 (a 1-pixel margin for the
+    adaptive surface, whose silhouette differs): no shadow that the surface
+    cannot explain."""
+    if not (ctx.cli and os.access(ctx.cli, os.X_OK)):
+        raise Skip("subdivtrace CLI not built: %s" % ctx.cli)
+    obj = os.path.join(ctx.source_dir or "", "data", "bunny_lowpoly.obj")
+    if not os.path.exists(obj):
+        raise Skip("no %s" % obj)
+    verts, faces = read_obj(obj)
+    body = mesh2_body(verts, faces, gouraud_normals(verts, faces))
+    inc = ctx.path("bunny_l2.inc")
+    proc = subprocess.run([ctx.cli, "export-mesh2", obj, "-o", inc, "--levels", "2", "--name", "Bunny_L2"],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=120)
+    if proc.returncode != 0:
+        raise Failure("export-mesh2 failed:\n%s" % tail(proc.stdout.decode("utf-8", "replace")))
+    subdiv = 'subdivision_mesh { file "%s" %%s LOOK }' % obj
+
+    native0, _ = shadow_pixels(ctx, "mesh2_level0", "mesh2 { %s LOOK }" % body)
+    ours0, _ = shadow_pixels(ctx, "subdiv_level0", subdiv % "max_level 0")
+    if ours0 != native0:
+        raise Failure("max_level 0: %d dark pixels, mesh2 has %d (%d not in mesh2's)"
+                      % (len(ours0), len(native0), len(ours0 - native0)))
+
+    _, native2 = shadow_pixels(ctx, "mesh2_level2", '#include "bunny_l2.inc"\nobject { Bunny_L2 LOOK }')
+    _, ours2 = shadow_pixels(ctx, "subdiv_level2", subdiv % "max_level 2 tolerance 1e-6")
+    unexplained = ours2 - native2
+    w = ACNE_SIZE[0]
+    margin = {j for i in native2 for j in (i - w - 1, i - w, i - w + 1, i - 1, i, i + 1, i + w - 1, i + w, i + w + 1)}
+    _, ours6 = shadow_pixels(ctx, "subdiv_level6", subdiv % "max_level 6 tolerance 1")
+    unexplained6 = ours6 - margin
+    print("  shadowed where mesh2 of the same surface is not: level 2: %d, adaptive level 6: %d"
+          % (len(unexplained), len(unexplained6)))
+    if unexplained or unexplained6:
+        raise Failure("%d (level 2) and %d (max_level 6) pixels darker than no_shadow without a shadow "
+                      "in mesh2" % (len(unexplained), len(unexplained6)))
+
+
 STOCK_POVRAY = "/usr/bin/povray"
 STOCK_INCLUDE = "/usr/share/povray-3.7/include"
 
@@ -544,6 +893,14 @@ TESTS = {
     "no_shadow_acne": test_no_shadow_acne,
     "standard_includes_parse": test_standard_includes_parse,
     "stock_scene_unchanged": test_stock_scene_unchanged,
+    "copies_own_view_perspective": test_copies_own_view_perspective,
+    "copies_own_view_orthographic": test_copies_own_view_orthographic,
+    "texture_list_equals_mesh2": test_texture_list_equals_mesh2,
+    "uv_without_uv_vectors_equals_mesh2": test_uv_without_uv_vectors_equals_mesh2,
+    "inside_vector_equals_mesh2": test_inside_vector_equals_mesh2,
+    "texture_blend_continuous": test_texture_blend_continuous,
+    "declared_mesh": test_declared_mesh,
+    "shadow_acne_nonconvex": test_shadow_acne_nonconvex,
 }
 for _name in BAD_CASES:
     TESTS["bad_" + _name] = (lambda n: (lambda ctx: bad_case_test(ctx, n)))(_name)

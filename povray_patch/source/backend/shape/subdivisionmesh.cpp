@@ -17,8 +17,9 @@
 *  subdivision_mesh
 *  {
 *     mesh2 { vertex_vectors {...} [normal_vectors {...}] [uv_vectors {...}]
-*             face_indices {...} [normal_indices {...}] [uv_indices {...}] }
-*     | file "mesh.obj"
+*             [texture_list {...}] face_indices {...} [normal_indices {...}]
+*             [uv_indices {...}] [inside_vector <x,y,z>] }
+*     | file "mesh.obj" | MESH_IDENTIFIER
 *     [scheme normal | loop | butterfly]
 *     [tolerance PIXELS] [max_level LEVEL] [cache_mb MEGABYTES]
 *     [OBJECT_MODIFIERS...]
@@ -52,6 +53,8 @@
 #include "backend/scene/objects.h"
 #include "backend/scene/camera.h"
 #include "backend/scene/threaddata.h"
+#include "backend/texture/texture.h"
+#include "backend/shape/mesh.h"
 #include "backend/shape/subdivisionmesh.h"
 
 // this must be the last file included
@@ -59,6 +62,22 @@
 
 namespace pov
 {
+
+/*****************************************************************************
+* Local typedefs
+******************************************************************************/
+
+/// What mesh2 keeps per triangle and the library does not: texture indices
+/// and uvs. Indexed by the library's base face (faces the library drops are
+/// not here either); shared by every copy of the object.
+struct SubdivisionMeshFaces
+{
+	/// Three texture indices per face: one (then -1, -1), three, or none (-1).
+	std::vector<long> Textures;
+	/// Three uvs per face; empty without uv_vectors (mesh2's uv is then 0, 0).
+	std::vector<subdivtrace::Vec2> CornerUVs;
+};
+
 
 /*****************************************************************************
 * Local variables
@@ -108,11 +127,136 @@ void add_counters(TraceThreadData *Thread, const subdivtrace::TraceCounters& c)
 
 SubdivisionMeshInput::SubdivisionMeshInput()
 {
+	Make_Vector(InsideVector, 0.0, 0.0, 0.0);
 	subdivtrace::SurfaceOptions defaults;
 	Scheme = subdivtrace::scheme_name(defaults.scheme);
 	Tolerance = defaults.tolerance;
 	MaxLevel = defaults.max_level;
 	CacheMB = int(defaults.cache_mb);
+}
+
+/*****************************************************************************
+*
+* FUNCTION
+*
+*   Read_Mesh, Copy_Mesh_Textures
+*
+* DESCRIPTION
+*
+*   A mesh declared with mesh or mesh2, taken with everything mesh2 keeps per
+*   triangle. Its transformation is applied to the vertices (its textures
+*   were transformed with it already), so the subdivision_mesh starts with
+*   the declared mesh's placement and takes modifiers of its own.
+*
+******************************************************************************/
+
+void SubdivisionMeshInput::Read_Mesh(const Mesh& mesh)
+{
+	const MESH_DATA *Data = mesh.Data;
+	VECTOR P, Q;
+	bool smooth = false;
+
+	Vertices.clear();
+	for (long i = 0; i < Data->Number_Of_Vertices; i++)
+	{
+		Assign_Vector(Q, Data->Vertices[i]);
+		if (mesh.Trans != NULL)
+			MTransPoint(P, Q, mesh.Trans);
+		else
+			Assign_Vector(P, Q);
+		Vertices.insert(Vertices.end(), P, P + 3);
+	}
+
+	UVs.clear();
+	for (long i = 0; i < Data->Number_Of_UVCoords; i++)
+		UVs.insert(UVs.end(), Data->UVCoords[i], Data->UVCoords[i] + 2);
+
+	// Mesh::Compute_Mesh_Triangle reorders some triangles (P1 <-> P2, with
+	// their uvs, normals and textures) for its own intersection test; the
+	// face normal it keeps (Normal_Ind) was computed before, as (P3 - P1) x
+	// (P2 - P1), so it tells which were swapped: the subdivision needs the
+	// consistent winding the user gave.
+	std::vector<bool> swapped(Data->Number_Of_Triangles, false);
+	FaceIndices.clear();
+	UVIndices.clear();
+	FaceTextures.clear();
+	for (long i = 0; i < Data->Number_Of_Triangles; i++)
+	{
+		const MESH_TRIANGLE& T = Data->Triangles[i];
+		VECTOR P1, E1, E2, R, S;
+		DBL d;
+		Assign_Vector(P1, Data->Vertices[T.P1]);
+		Assign_Vector(E1, Data->Vertices[T.P2]);
+		Assign_Vector(E2, Data->Vertices[T.P3]);
+		VSubEq(E1, P1);
+		VSubEq(E2, P1);
+		VCross(R, E1, E2);
+		Assign_Vector(S, Data->Normals[T.Normal_Ind]);
+		VDot(d, R, S);
+		swapped[i] = (d > 0.0);
+		const int a = swapped[i] ? 1 : 0, b = swapped[i] ? 0 : 1;
+
+		const long long face[3] = { T.P1, T.P2, T.P3 };
+		const long long uv[3] = { T.UV1, T.UV2, T.UV3 };
+		const long long texture[3] = { T.Texture, T.ThreeTex ? T.Texture2 : -1, T.ThreeTex ? T.Texture3 : -1 };
+		const long long face_in_order[3] = { face[a], face[b], face[2] };
+		const long long uv_in_order[3] = { uv[a], uv[b], uv[2] };
+		const long long texture_in_order[3] = { T.ThreeTex ? texture[a] : texture[0], T.ThreeTex ? texture[b] : -1, texture[2] };
+		FaceIndices.insert(FaceIndices.end(), face_in_order, face_in_order + 3);
+		UVIndices.insert(UVIndices.end(), uv_in_order, uv_in_order + 3);
+		FaceTextures.insert(FaceTextures.end(), texture_in_order, texture_in_order + 3);
+		smooth = smooth || T.Smooth;
+	}
+	if (mesh.Textures == NULL)
+		FaceTextures.clear();
+
+	// Normals per corner: a smooth triangle's own, a flat one's face normal.
+	Normals.clear();
+	NormalIndices.clear();
+	if (smooth)
+	{
+		for (long i = 0; i < Data->Number_Of_Normals; i++)
+		{
+			Assign_Vector(Q, Data->Normals[i]);
+			if (mesh.Trans != NULL)
+			{
+				MTransNormal(P, Q, mesh.Trans);
+				VNormalizeEq(P);
+			}
+			else
+				Assign_Vector(P, Q);
+			Normals.insert(Normals.end(), P, P + 3);
+		}
+		for (long i = 0; i < Data->Number_Of_Triangles; i++)
+		{
+			const MESH_TRIANGLE& T = Data->Triangles[i];
+			const long long normal[3] = { T.Smooth ? T.N1 : T.Normal_Ind, T.Smooth ? T.N2 : T.Normal_Ind,
+			                              T.Smooth ? T.N3 : T.Normal_Ind };
+			const int a = swapped[i] ? 1 : 0, b = swapped[i] ? 0 : 1;
+			const long long normal_in_order[3] = { normal[a], normal[b], normal[2] };
+			NormalIndices.insert(NormalIndices.end(), normal_in_order, normal_in_order + 3);
+		}
+	}
+
+	for (size_t i = 0; i < Textures.size(); i++)
+		Destroy_Textures(Textures[i]);
+	Textures.clear();
+	for (long i = 0; i < mesh.Number_Of_Textures; i++)
+		Textures.push_back(Copy_Textures(mesh.Textures[i]));
+
+	Make_Vector(InsideVector, 0.0, 0.0, 0.0);
+	if (mesh.has_inside_vector)
+		Assign_Vector(InsideVector, Data->Inside_Vect);
+}
+
+void SubdivisionMesh::Copy_Mesh_Textures(const Mesh& mesh)
+{
+	if (mesh.Texture != NULL)
+		Texture = Copy_Textures(mesh.Texture);
+	if (mesh.Interior_Texture != NULL)
+		Interior_Texture = Copy_Textures(mesh.Interior_Texture);
+	if (Test_Flag(&mesh, UV_FLAG))
+		Set_Flag(this, UV_FLAG);
 }
 
 int SubdivisionMesh::Max_Level_Cap()
@@ -138,6 +282,8 @@ int SubdivisionMesh::Max_Level_Cap()
 
 std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vector<std::string>& warnings)
 {
+	std::shared_ptr<SubdivisionMeshFaces> data = std::make_shared<SubdivisionMeshFaces>();
+
 	try
 	{
 		subdivtrace::Mesh mesh;
@@ -166,6 +312,33 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 			for (size_t i = 0; i + 2 < input.UVIndices.size(); i += 3)
 				arrays.uv_indices.push_back({{input.UVIndices[i], input.UVIndices[i + 1], input.UVIndices[i + 2]}});
 			mesh = subdivtrace::mesh_from_arrays(arrays, "mesh2", &warnings);
+
+			// Texture indices follow the faces the library kept (it drops
+			// those that repeat a vertex).
+			if (!input.FaceTextures.empty())
+			{
+				for (size_t f = 0; f < arrays.face_indices.size(); f++)
+				{
+					const std::array<std::int64_t, 3>& v = arrays.face_indices[f];
+					if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0])
+						continue;
+					data->Textures.insert(data->Textures.end(), &input.FaceTextures[3 * f], &input.FaceTextures[3 * f + 3]);
+				}
+				if (data->Textures.size() != 3 * mesh.triangles.size())
+					return "texture indices do not match the faces kept";
+			}
+		}
+
+		// The library interpolates uvs over each base triangle's domain. It is
+		// given the corners (0,0), (1,0), (0,1), so a hit's uv is its
+		// barycentric pair (b2, b3) on the base triangle: what mesh2 weighs
+		// textures with; the real uvs are interpolated here the same way.
+		data->CornerUVs = std::move(mesh.corner_uvs);
+		mesh.corner_uvs.assign(3 * mesh.triangles.size(), subdivtrace::Vec2(0.0));
+		for (size_t t = 0; t < mesh.triangles.size(); t++)
+		{
+			mesh.corner_uvs[3 * t + 1] = subdivtrace::Vec2(1.0, 0.0);
+			mesh.corner_uvs[3 * t + 2] = subdivtrace::Vec2(0.0, 1.0);
 		}
 
 		subdivtrace::SurfaceOptions options;
@@ -184,13 +357,31 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 		surface.reset();
 		return e.what();
 	}
+	faces = data;
 
-	// An open mesh has no inside: like mesh2 without inside_vector it is a
-	// patch, which CSG treats as such.
-	if (surface->is_closed())
+	// Like mesh2, a mesh with an inside_vector is a solid whose inside is the
+	// parity of crossings along that vector. Without one, a closed mesh is a
+	// solid (the library's parity test) and an open mesh is a patch.
+	DBL len;
+	VLength(len, input.InsideVector);
+	HasInsideVector = (len > EPSILON);
+	if (HasInsideVector)
+		VInverseScale(InsideVect, input.InsideVector, len);
+	if (HasInsideVector || surface->is_closed())
 		Type &= ~PATCH_OBJECT;
 	else
 		Type |= PATCH_OBJECT;
+
+	// Textures as mesh2 has them: Determine_Textures is asked when there is a
+	// texture_list; the object is textured when every face has an index.
+	Textures = input.Textures;
+	if (!Textures.empty())
+		Set_Flag(this, MULTITEXTURE_FLAG);
+	bool fully_textured = !faces->Textures.empty();
+	for (size_t f = 0; f < faces->Textures.size(); f += 3)
+		fully_textured = fully_textured && (faces->Textures[f] >= 0);
+	if (fully_textured)
+		Type |= TEXTURED_OBJECT;
 
 	return std::string();
 }
@@ -270,14 +461,13 @@ void SubdivisionMesh::Collect_Totals(const vector<ObjectPtr>& Objects, Subdivisi
 *
 ******************************************************************************/
 
-void SubdivisionMesh::Set_View(const Camera& camera, int image_width)
+std::string SubdivisionMesh::Set_View(const Camera& camera, int image_width)
 {
 	if (!surface)
-		return;
+		return std::string();
 	if (image_width < 1)
 		image_width = 1;
 
-	subdivtrace::View view;
 	DBL right, direction;
 	VLength(right, camera.Right);
 	VLength(direction, camera.Direction);
@@ -294,9 +484,9 @@ void SubdivisionMesh::Set_View(const Camera& camera, int image_width)
 			VLength(len, local);
 			scale += len / 3.0;
 		}
-		view.orthographic = true;
-		view.pixel_size = right / image_width * scale;
-		view.pixel_angle = 0.0;
+		Orthographic = true;
+		PixelSize = right / image_width * scale;
+		PixelAngle = 0.0;
 	}
 	else
 	{
@@ -307,16 +497,35 @@ void SubdivisionMesh::Set_View(const Camera& camera, int image_width)
 			fov = 2.0 * atan(0.5 * right / direction);
 		else
 			fov = M_PI / 2.0;
-		view.pixel_angle = fov / image_width;
+		Orthographic = false;
+		PixelSize = 0.0;
+		PixelAngle = fov / image_width;
 	}
 
 	MInvTransPoint(CameraLocal, camera.Location, Trans);
 	HaveCamera = true;
-	view.camera = to_vec3(CameraLocal);
 
-	// The surface is shared between copies of this object; the last copy's
-	// camera wins here, but every ray passes its own origin distance below.
-	surface->set_view(view);
+	// The surface is shared between copies; the view is this copy's own and
+	// travels with each of its rays (Ray::view) and inside tests.
+	subdivtrace::View view;
+	Make_View(view);
+	try
+	{
+		subdivtrace::AdaptiveSurface::check_view(view);
+	}
+	catch (const std::exception& e)
+	{
+		return e.what();
+	}
+	return std::string();
+}
+
+void SubdivisionMesh::Make_View(subdivtrace::View& view) const
+{
+	view.pixel_angle = PixelAngle;
+	view.camera = to_vec3(CameraLocal);
+	view.orthographic = Orthographic;
+	view.pixel_size = PixelSize;
 }
 
 
@@ -332,11 +541,35 @@ void SubdivisionMesh::Set_View(const Camera& camera, int image_width)
 *   The ray is taken into object space without normalising its direction, so
 *   the library's ray parameter is POV-Ray's depth. All crossings are needed
 *   only inside CSG and for clipped_by; otherwise the nearest will do.
-*   Camera rays start at the
-*   camera (origin distance 0); other rays start where a camera ray ended,
-*   and the library sizes their footprint by the distance from the camera.
+*   Camera rays start at the camera (origin distance 0); other rays start
+*   where a camera ray ended, and the library sizes their footprint by the
+*   distance from the camera. Every ray carries this copy's view.
+*
+*   POV-Ray starts secondary rays (shadow, reflection, refraction, ...) at
+*   the hit point itself, with no offset. The surface such a ray sees near
+*   its origin may lie a little off the surface the parent ray hit (another
+*   level, snapped edges, rounding): Hit::error_bound bounds that distance.
+*   A hit whose leaf plane passes within its error bound of the origin is the
+*   surface the ray left, and is skipped (DESIGN.md section 5). Camera rays
+*   and Inside() never skip anything, so CSG sees every crossing.
 *
 ******************************************************************************/
+
+namespace
+{
+
+bool is_surface_left(const subdivtrace::Hit& hit, const subdivtrace::Vec3& origin)
+{
+	const subdivtrace::Vec3 d = origin - hit.point;
+	const subdivtrace::Vec3& n = hit.geometric_normal;
+	return std::fabs(d.x * n.x + d.y * n.y + d.z * n.z) <= hit.error_bound;
+}
+
+// A secondary ray that re-finds the surface it left at every step is not
+// followed further than this (each step moves t_min past one such hit).
+const int k_max_surface_left_skips = 8;
+
+}
 
 bool SubdivisionMesh::All_Intersections(const Ray& ray, IStack& Depth_Stack, TraceThreadData *Thread)
 {
@@ -349,11 +582,16 @@ bool SubdivisionMesh::All_Intersections(const Ray& ray, IStack& Depth_Stack, Tra
 	MInvTransPoint(P, ray.Origin, Trans);
 	MInvTransDirection(D, ray.Direction, Trans);
 
+	subdivtrace::View view;
+	Make_View(view);
+
 	subdivtrace::Ray local;
 	local.origin = to_vec3(P);
 	local.direction = to_vec3(D);
 	local.t_min = MIN_ISECT_DEPTH;
 	local.t_max = MAX_DISTANCE;
+	if (HaveCamera)
+		local.view = &view;
 	if (ray.IsPrimaryRay())
 		local.origin_distance = 0.0;
 	else if (HaveCamera)
@@ -362,6 +600,7 @@ bool SubdivisionMesh::All_Intersections(const Ray& ray, IStack& Depth_Stack, Tra
 		VSub(Offset, P, CameraLocal);
 		VLength(local.origin_distance, Offset);
 	}
+	const bool secondary = !ray.IsPrimaryRay() && !ray.IsSubsurfaceRay();
 
 	subdivtrace::TraceCounters counters;
 	std::vector<subdivtrace::Hit>& hits = hit_scratch;
@@ -371,11 +610,28 @@ bool SubdivisionMesh::All_Intersections(const Ray& ray, IStack& Depth_Stack, Tra
 		// Outside CSG and unclipped, POV-Ray uses only the nearest hit (as
 		// fractal.cpp relies on): the library may stop at the first one.
 		subdivtrace::Hit hit;
-		if (surface->intersect(local, hit, &counters))
-			hits.push_back(hit);
+		for (int skips = 0; surface->intersect(local, hit, &counters); skips++)
+		{
+			if (!secondary || skips == k_max_surface_left_skips || !is_surface_left(hit, local.origin))
+			{
+				hits.push_back(hit);
+				break;
+			}
+			local.t_min = hit.t;
+		}
 	}
 	else
+	{
 		surface->intersect_all(local, hits, &counters);
+		if (secondary)
+		{
+			size_t kept = 0;
+			for (size_t i = 0; i < hits.size(); i++)
+				if (!is_surface_left(hits[i], local.origin))
+					hits[kept++] = hits[i];
+			hits.resize(kept);
+		}
+	}
 	add_counters(Thread, counters);
 
 	bool found = false;
@@ -394,10 +650,23 @@ bool SubdivisionMesh::All_Intersections(const Ray& ray, IStack& Depth_Stack, Tra
 		Make_Vector(LocalNormal, hit.normal.x, hit.normal.y, hit.normal.z);
 		MTransNormal(INormal, LocalNormal, Trans);
 		VNormalizeEq(INormal);
-		UV[U] = hit.uv.x;
-		UV[V] = hit.uv.y;
 
-		Depth_Stack->push(Intersection(hit.t, IPoint, INormal, UV, this));
+		// hit.uv is the barycentric pair on the base triangle (see Build).
+		const DBL b2 = hit.uv.x, b3 = hit.uv.y, b1 = 1.0 - b2 - b3;
+		UV[U] = UV[V] = 0.0;
+		if (!faces->CornerUVs.empty())
+		{
+			const subdivtrace::Vec2 *uv = &faces->CornerUVs[3 * size_t(hit.base_face)];
+			UV[U] = b1 * uv[0].x + b2 * uv[1].x + b3 * uv[2].x;
+			UV[V] = b1 * uv[0].y + b2 * uv[1].y + b3 * uv[2].y;
+		}
+
+		Intersection isect(hit.t, IPoint, INormal, UV, this);
+		// Object-specific data for Determine_Textures: the base face and the
+		// hit's barycentric weights on it.
+		isect.i1 = int(hit.base_face);
+		Make_Vector(isect.LocalIPoint, b1, b2, b3);
+		Depth_Stack->push(isect);
 		found = true;
 	}
 
@@ -416,22 +685,95 @@ bool SubdivisionMesh::All_Intersections(const Ray& ray, IStack& Depth_Stack, Tra
 *
 * DESCRIPTION
 *
-*   Closed meshes only; an open mesh (a patch) has no inside.
+*   With an inside_vector, mesh2's rule: the parity of crossings along that
+*   vector. Otherwise closed meshes only (the library's parity test at this
+*   copy's view); an open mesh (a patch) has no inside.
 *
 ******************************************************************************/
 
 bool SubdivisionMesh::Inside(const VECTOR IPoint, TraceThreadData *) const
 {
-	if (!surface || !surface->is_closed())
+	if (!surface || !(HasInsideVector || surface->is_closed()))
 		return false;
 
 	VECTOR P;
 	MInvTransPoint(P, IPoint, Trans);
-	bool inside = surface->inside(to_vec3(P));
+
+	subdivtrace::View view;
+	Make_View(view);
+	bool inside;
+	if (HasInsideVector)
+	{
+		VECTOR D;
+		MInvTransDirection(D, InsideVect, Trans);
+		subdivtrace::Ray local;
+		local.origin = to_vec3(P);
+		local.direction = to_vec3(D);
+		local.t_min = 0.0;
+		if (HaveCamera)
+			local.view = &view;
+		std::vector<subdivtrace::Hit> crossings;
+		surface->intersect_all(local, crossings);
+		inside = (crossings.size() % 2) == 1;
+	}
+	else
+		inside = surface->inside(to_vec3(P), HaveCamera ? &view : NULL);
 
 	if (Test_Flag(this, INVERTED_FLAG))
 		return !inside;
 	return inside;
+}
+
+
+
+/*****************************************************************************
+*
+* FUNCTION
+*
+*   Determine_Textures
+*
+* DESCRIPTION
+*
+*   As Mesh::Determine_Textures: a face with three texture indices blends
+*   them by the hit's barycentric weights on its base triangle (at any level,
+*   so the blend is continuous across base edges), one index selects a
+*   texture, none falls back to the object's texture.
+*
+******************************************************************************/
+
+void SubdivisionMesh::Determine_Textures(Intersection *isect, bool hitinside, WeightedTextureVector& textures, TraceThreadData *)
+{
+	const long *tex = NULL;
+	if (faces && !faces->Textures.empty())
+		tex = &faces->Textures[3 * size_t(isect->i1)];
+
+	if ((Interior_Texture != NULL) && (hitinside == true))
+		textures.push_back(WeightedTexture(1.0, Interior_Texture));
+	else if ((tex != NULL) && (tex[1] >= 0))
+	{
+		COLC w1 = COLC(isect->LocalIPoint[X]);
+		COLC w2 = COLC(isect->LocalIPoint[Y]);
+		COLC w3 = COLC(isect->LocalIPoint[Z]);
+		COLC wsum = 1.0 / (w1 + w2 + w3);
+
+		textures.push_back(WeightedTexture(w1 * wsum, Textures[tex[0]]));
+		textures.push_back(WeightedTexture(w2 * wsum, Textures[tex[1]]));
+		textures.push_back(WeightedTexture(w3 * wsum, Textures[tex[2]]));
+	}
+	else if ((tex != NULL) && (tex[0] >= 0))
+		textures.push_back(WeightedTexture(1.0, Textures[tex[0]]));
+	else if (Texture != NULL)
+		textures.push_back(WeightedTexture(1.0, Texture));
+}
+
+void SubdivisionMesh::Test_Opacity()
+{
+	if ((Texture == NULL) || pov::Test_Opacity(Texture))
+		Set_Flag(this, OPAQUE_FLAG);
+
+	for (size_t i = 0; i < Textures.size(); i++)
+		if ((Textures[i] != NULL) && !pov::Test_Opacity(Textures[i]))
+			Clear_Flag(this, OPAQUE_FLAG);
 }
 
 
@@ -494,6 +836,11 @@ void SubdivisionMesh::Transform(const TRANSFORM *tr)
 
 	Compose_Transforms(Trans, tr);
 
+	// As Mesh: the texture_list moves with the object unless uv-mapped.
+	if (!Test_Flag(this, UV_FLAG))
+		for (size_t i = 0; i < Textures.size(); i++)
+			Transform_Textures(Textures[i], tr);
+
 	Compute_BBox();
 }
 
@@ -512,8 +859,8 @@ void SubdivisionMesh::Invert()
 *
 * DESCRIPTION
 *
-*   Copies share the surface (and so its node cache); each has its own
-*   transform.
+*   Copies share the surface (and so its node cache) and the per-face data;
+*   each has its own transform, view and texture_list references.
 *
 ******************************************************************************/
 
@@ -522,11 +869,18 @@ SubdivisionMesh::SubdivisionMesh() : ObjectBase(SUBDIVISION_MESH_OBJECT)
 	Trans = Create_Transform();
 	Make_Vector(CameraLocal, 0.0, 0.0, 0.0);
 	HaveCamera = false;
+	Orthographic = false;
+	PixelAngle = 0.0;
+	PixelSize = 0.0;
+	Make_Vector(InsideVect, 0.0, 0.0, 0.0);
+	HasInsideVector = false;
 }
 
 SubdivisionMesh::~SubdivisionMesh()
 {
 	Destroy_Transform(Trans);
+	for (size_t i = 0; i < Textures.size(); i++)
+		Destroy_Textures(Textures[i]);
 }
 
 ObjectPtr SubdivisionMesh::Copy()
@@ -536,6 +890,8 @@ ObjectPtr SubdivisionMesh::Copy()
 	Destroy_Transform(New->Trans);
 	*New = *this;
 	New->Trans = Copy_Transform(Trans);
+	for (size_t i = 0; i < Textures.size(); i++)
+		New->Textures[i] = Copy_Textures(Textures[i]);
 
 	return (New);
 }

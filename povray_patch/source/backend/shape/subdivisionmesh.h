@@ -25,6 +25,7 @@
 namespace subdivtrace
 {
 	class AdaptiveSurface;
+	struct View;
 }
 
 namespace pov
@@ -37,12 +38,17 @@ namespace pov
 // Closed meshes are solid; open ones become patches (no inside) once built.
 #define SUBDIVISION_MESH_OBJECT (BASIC_OBJECT)
 
+// Largest cache_mb accepted (1 TB).
+#define SUBDIVISION_MESH_MAX_CACHE_MB 1048576.0
+
 
 /*****************************************************************************
 * Global typedefs
 ******************************************************************************/
 
 class Camera;
+class Mesh;
+struct SubdivisionMeshFaces;
 
 /// Node cache statistics summed over the distinct surfaces of a scene.
 struct SubdivisionMeshTotals
@@ -70,6 +76,13 @@ struct SubdivisionMeshInput
 	std::vector<long long> FaceIndices;
 	std::vector<long long> NormalIndices;
 	std::vector<long long> UVIndices;
+	/// Texture indices into Textures, three per face (mesh2's face_indices
+	/// extras: -1 where a face gives fewer than three).
+	std::vector<long long> FaceTextures;
+	/// texture_list; the object built takes over these references.
+	std::vector<TEXTURE *> Textures;
+	/// mesh2's inside_vector (zero = none).
+	VECTOR InsideVector;
 
 	/// "normal", "loop" or "butterfly".
 	std::string Scheme;
@@ -79,6 +92,12 @@ struct SubdivisionMeshInput
 
 	/// Defaults of libsubdivtrace's SurfaceOptions.
 	SubdivisionMeshInput();
+
+	/// The arrays of a declared mesh or mesh2: vertices (its transformation
+	/// applied), normals of smooth triangles (flat ones get their face
+	/// normal), uvs, texture indices, a copy of its texture_list and its
+	/// inside_vector.
+	void Read_Mesh(const Mesh& mesh);
 };
 
 class SubdivisionMesh : public ObjectBase
@@ -99,15 +118,25 @@ class SubdivisionMesh : public ObjectBase
 		virtual void Transform(const TRANSFORM *);
 		virtual void Invert();
 		virtual void Compute_BBox();
+		virtual void Determine_Textures(Intersection *, bool, WeightedTextureVector&, TraceThreadData *);
 
 		/// Builds the surface from parsed input. Returns an empty string on
 		/// success, else the reason (for the parser's Error()); warnings from
 		/// the library are appended to `warnings`.
 		std::string Build(const SubdivisionMeshInput& input, std::vector<std::string>& warnings);
 
-		/// Hands the final camera and image width to the surface (pixel angle
-		/// of DESIGN.md section 5); called once parsing is complete.
-		void Set_View(const Camera& camera, int image_width);
+		/// Keeps this copy's view of the final camera and image width (pixel
+		/// angle of DESIGN.md section 5); called once parsing is complete.
+		/// Returns an empty string, or why the view is unusable.
+		std::string Set_View(const Camera& camera, int image_width);
+
+		/// OPAQUE_FLAG from the object's texture and every texture_list entry
+		/// (as Mesh::Test_Mesh_Opacity does).
+		void Test_Opacity();
+
+		/// The object texture, interior texture and uv_mapping flag of a
+		/// declared mesh given as this object's mesh.
+		void Copy_Mesh_Textures(const Mesh& mesh);
 
 		/// True if every base edge has two triangles (the object has an inside).
 		bool Is_Closed() const;
@@ -125,9 +154,22 @@ class SubdivisionMesh : public ObjectBase
 	private:
 		/// Shared by all copies of the object: the node cache is per surface.
 		std::shared_ptr<subdivtrace::AdaptiveSurface> surface;
+		/// Per-face texture indices and corner uvs, shared by all copies.
+		std::shared_ptr<const SubdivisionMeshFaces> faces;
+		/// texture_list, one reference per copy (as Mesh keeps them).
+		std::vector<TEXTURE *> Textures;
 		/// Camera location in this copy's object space (origin distance of rays).
 		VECTOR CameraLocal;
 		bool HaveCamera;
+		/// This copy's footprint (subdivtrace::View), in its object space.
+		bool Orthographic;
+		DBL PixelAngle;
+		DBL PixelSize;
+		/// Normalised inside_vector in object space, as mesh2 keeps it.
+		VECTOR InsideVect;
+		bool HasInsideVector;
+
+		void Make_View(subdivtrace::View& view) const;
 };
 
 }
