@@ -351,6 +351,8 @@ BAD_CASES = {
     "repeated_scheme": (["  scheme loop", "  scheme butterfly"], 2, "scheme is given more than once"),
     "repeated_tolerance": (["  tolerance 1", "  max_level 3", "  tolerance 2"], 3,
                            "tolerance is given more than once"),
+    "weld_and_no_weld": (["  weld 1e-6", "  no_weld"], 2, "no_weld is given more than once"),
+    "negative_weld": (["  weld -1"], 1, "weld must be from 0 to 1 (it is -1)"),
     "texture_index_out_of_range": ("bad_texture", 0, "Texture index out of range"),
     "missing_file": (None, 0, "no_such_mesh.obj"),
     "index_out_of_range": ("bad_index", 0, "mesh2"),
@@ -819,6 +821,70 @@ def test_shadow_acne_nonconvex(ctx):
                       "in mesh2" % (len(unexplained), len(unexplained6)))
 
 
+def patch_split_sphere():
+    """An icosphere (the icosahedron split twice, vertices on the unit sphere)
+    twice: with shared vertices, and cut into 20 patches (one per icosahedron
+    face) each with its own copy of its vertices, as exporters write seams.
+    Returns (shared verts, shared faces, split verts, split faces)."""
+    verts, faces, _, _ = icosahedron()
+    verts = list(verts)
+    patch_of = list(range(len(faces)))
+    for _ in range(2):
+        mid = {}
+
+        def midpoint(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in mid:
+                p = [(verts[a][c] + verts[b][c]) / 2 for c in range(3)]
+                n = math.sqrt(sum(x * x for x in p))
+                verts.append(tuple(x / n for x in p))
+                mid[key] = len(verts) - 1
+            return mid[key]
+        new_faces, new_patch = [], []
+        for (a, b, c), patch in zip(faces, patch_of):
+            ab, bc, ca = midpoint(a, b), midpoint(b, c), midpoint(c, a)
+            new_faces += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
+            new_patch += [patch] * 4
+        faces, patch_of = new_faces, new_patch
+    split_verts, split_faces = [], []
+    for patch in range(20):
+        local = {}
+        for f, p in zip(faces, patch_of):
+            if p != patch:
+                continue
+            for v in f:
+                if v not in local:
+                    local[v] = len(split_verts)
+                    split_verts.append(verts[v])
+            split_faces.append(tuple(local[v] for v in f))
+    return verts, faces, split_verts, split_faces
+
+
+def test_weld_patch_split_sphere(ctx):
+    """Coincident vertices are welded (issue 11): a sphere cut into patches
+    with duplicated seam vertices renders pixel for pixel like the same
+    sphere with shared vertices, in every scheme; with no_weld the seams
+    tear (the control: pixels differ)."""
+    shared_v, shared_f, split_v, split_f = patch_split_sphere()
+    print("  shared: %d vertices, split: %d vertices, %d faces" % (len(shared_v), len(split_v), len(split_f)))
+    mat = "pigment { rgb <1, 0.55, 0.2> } finish { specular 0.4 roughness 0.02 }"
+    for scheme in ("normal", "loop", "butterfly"):
+        images = {}
+        for tag, v, f, opt in (("shared", shared_v, shared_f, ""), ("split", split_v, split_f, ""),
+                               ("no_weld", split_v, split_f, "no_weld")):
+            scene = SCENE_HEADER + ("subdivision_mesh { mesh2 { %s } scheme %s max_level 5 tolerance 1 %s %s "
+                                    "rotate <20, 30, 0> scale 1.2 }\n" % (mesh2_body(v, f), scheme, opt, mat))
+            images[tag] = ctx.render("%s_%s" % (tag, scheme), scene)[2]
+        differ = lambda a, b: sum(1 for i in range(0, len(a[2]), 3) if a[2][i:i + 3] != b[2][i:i + 3])
+        welded, torn = differ(images["shared"], images["split"]), differ(images["shared"], images["no_weld"])
+        print("  %s: split vs shared %d pixels differ; with no_weld %d" % (scheme, welded, torn))
+        if welded:
+            raise Failure("%s: the welded patch-split sphere differs from the shared one in %d pixels"
+                          % (scheme, welded))
+        if not torn:
+            raise Failure("%s: no_weld renders like the shared sphere: the control sees no seams" % scheme)
+
+
 STOCK_POVRAY = "/usr/bin/povray"
 STOCK_INCLUDE = "/usr/share/povray-3.7/include"
 
@@ -901,6 +967,7 @@ TESTS = {
     "texture_blend_continuous": test_texture_blend_continuous,
     "declared_mesh": test_declared_mesh,
     "shadow_acne_nonconvex": test_shadow_acne_nonconvex,
+    "weld_patch_split_sphere": test_weld_patch_split_sphere,
 }
 for _name in BAD_CASES:
     TESTS["bad_" + _name] = (lambda n: (lambda ctx: bad_case_test(ctx, n)))(_name)

@@ -133,6 +133,9 @@ SubdivisionMeshInput::SubdivisionMeshInput()
 	Tolerance = defaults.tolerance;
 	MaxLevel = defaults.max_level;
 	CacheMB = int(defaults.cache_mb);
+	subdivtrace::WeldOptions weld;
+	Weld = weld.enabled;
+	WeldTolerance = weld.relative_tolerance;
 }
 
 /*****************************************************************************
@@ -280,6 +283,33 @@ int SubdivisionMesh::Max_Level_Cap()
 *
 ******************************************************************************/
 
+namespace
+{
+
+// Input face of each triangle the library keeps, in order: it drops faces that
+// repeat a vertex or that welding collapses. Told the face numbers as uvs, it
+// hands them back per kept triangle.
+std::vector<size_t> kept_faces(const subdivtrace::MeshArrays& arrays, const subdivtrace::WeldOptions& weld)
+{
+	subdivtrace::MeshArrays numbered;
+	numbered.positions = arrays.positions;
+	numbered.face_indices = arrays.face_indices;
+	for (size_t f = 0; f < arrays.face_indices.size(); f++)
+	{
+		const std::int64_t i = std::int64_t(f);
+		numbered.uvs.push_back(subdivtrace::Vec2(double(f), 0.0));
+		numbered.uv_indices.push_back({{i, i, i}});
+	}
+	subdivtrace::Mesh mesh = subdivtrace::mesh_from_arrays(numbered, "mesh2", NULL, weld);
+
+	std::vector<size_t> kept(mesh.triangles.size());
+	for (size_t t = 0; t < kept.size(); t++)
+		kept[t] = size_t(mesh.corner_uvs[3 * t].x);
+	return kept;
+}
+
+}
+
 std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vector<std::string>& warnings)
 {
 	std::shared_ptr<SubdivisionMeshFaces> data = std::make_shared<SubdivisionMeshFaces>();
@@ -287,11 +317,14 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 	try
 	{
 		subdivtrace::Mesh mesh;
+		subdivtrace::WeldOptions weld;
+		weld.enabled = input.Weld;
+		weld.relative_tolerance = input.WeldTolerance;
 
 		if (!input.File.empty())
 		{
 #ifdef SUBDIVTRACE_HAVE_MESH_IO
-			mesh = subdivtrace::read_mesh(input.File, &warnings);
+			mesh = subdivtrace::read_mesh(input.File, &warnings, weld);
 #else
 			return input.File + ": this build of libsubdivtrace cannot read mesh files";
 #endif
@@ -311,21 +344,16 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 				arrays.normal_indices.push_back({{input.NormalIndices[i], input.NormalIndices[i + 1], input.NormalIndices[i + 2]}});
 			for (size_t i = 0; i + 2 < input.UVIndices.size(); i += 3)
 				arrays.uv_indices.push_back({{input.UVIndices[i], input.UVIndices[i + 1], input.UVIndices[i + 2]}});
-			mesh = subdivtrace::mesh_from_arrays(arrays, "mesh2", &warnings);
+			mesh = subdivtrace::mesh_from_arrays(arrays, "mesh2", &warnings, weld);
 
-			// Texture indices follow the faces the library kept (it drops
-			// those that repeat a vertex).
+			// Texture indices follow the faces the library kept.
 			if (!input.FaceTextures.empty())
 			{
-				for (size_t f = 0; f < arrays.face_indices.size(); f++)
-				{
-					const std::array<std::int64_t, 3>& v = arrays.face_indices[f];
-					if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0])
-						continue;
-					data->Textures.insert(data->Textures.end(), &input.FaceTextures[3 * f], &input.FaceTextures[3 * f + 3]);
-				}
-				if (data->Textures.size() != 3 * mesh.triangles.size())
+				std::vector<size_t> kept = kept_faces(arrays, weld);
+				if (kept.size() != mesh.triangles.size())
 					return "texture indices do not match the faces kept";
+				for (size_t t = 0; t < kept.size(); t++)
+					data->Textures.insert(data->Textures.end(), &input.FaceTextures[3 * kept[t]], &input.FaceTextures[3 * kept[t] + 3]);
 			}
 		}
 

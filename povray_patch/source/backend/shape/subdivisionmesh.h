@@ -89,6 +89,10 @@ struct SubdivisionMeshInput
 	DBL Tolerance;
 	int MaxLevel;
 	int CacheMB;
+	/// Coincident vertices become one (libsubdivtrace's WeldOptions):
+	/// within WeldTolerance times the bounding-box diagonal, 0 = identical.
+	bool Weld;
+	DBL WeldTolerance;
 
 	/// Defaults of libsubdivtrace's SurfaceOptions.
 	SubdivisionMeshInput();
