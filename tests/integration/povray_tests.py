@@ -171,6 +171,11 @@ def compare(a, b):
     return over / n, total / (3.0 * n), largest
 
 
+def differing_pixels(a, b):
+    """Number of pixels that are not byte-identical."""
+    return sum(1 for i in range(0, len(a[2]), 3) if a[2][i:i + 3] != b[2][i:i + 3])
+
+
 def coverage(image, background):
     """Fraction of pixels that differ from the background colour by more than 2/255."""
     w, h, p = image
@@ -543,7 +548,7 @@ def copies_test(ctx, camera):
         raise Failure("the scale-8 copy does not refine deeper than the scale-1 copy: %s" % (levels,))
     expected = compose([alone_small, alone_large], empty)
     fraction, mean, largest = compare(both, expected)
-    differ = sum(1 for i in range(0, len(both[2]), 3) if both[2][i:i + 3] != expected[2][i:i + 3])
+    differ = differing_pixels(both, expected)
     print("  together vs each alone: %d pixels differ" % differ)
     if differ:
         raise Failure("copies rendered together differ from each alone in %d pixels (max %d/255)"
@@ -593,7 +598,7 @@ def level0_pair(ctx, name, body, mods, native_extra="", header=SCENE_HEADER):
     subdiv = header + "subdivision_mesh { mesh2 { %s %s } max_level 0 %s }\n" % (body, native_extra, mods)
     _, _, a, _ = ctx.render("native_" + name, native)
     _, _, b, _ = ctx.render("subdiv_" + name, subdiv)
-    differ = sum(1 for i in range(0, len(a[2]), 3) if a[2][i:i + 3] != b[2][i:i + 3])
+    differ = differing_pixels(a, b)
     print("  %s: %d of %d pixels not identical" % (name, differ, WIDTH * HEIGHT))
     assert_close("%s: level 0 vs mesh2" % name, a, b, SAME_FRACTION, SAME_MEAN)
 
@@ -875,8 +880,8 @@ def test_weld_patch_split_sphere(ctx):
             scene = SCENE_HEADER + ("subdivision_mesh { mesh2 { %s } scheme %s max_level 5 tolerance 1 %s %s "
                                     "rotate <20, 30, 0> scale 1.2 }\n" % (mesh2_body(v, f), scheme, opt, mat))
             images[tag] = ctx.render("%s_%s" % (tag, scheme), scene)[2]
-        differ = lambda a, b: sum(1 for i in range(0, len(a[2]), 3) if a[2][i:i + 3] != b[2][i:i + 3])
-        welded, torn = differ(images["shared"], images["split"]), differ(images["shared"], images["no_weld"])
+        welded = differing_pixels(images["shared"], images["split"])
+        torn = differing_pixels(images["shared"], images["no_weld"])
         print("  %s: split vs shared %d pixels differ; with no_weld %d" % (scheme, welded, torn))
         if welded:
             raise Failure("%s: the welded patch-split sphere differs from the shared one in %d pixels"
