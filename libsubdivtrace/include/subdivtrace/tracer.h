@@ -76,7 +76,9 @@ struct Hit {
     Vec3 point{0.0};
     Vec3 normal{0.0};          ///< smooth (interpolated Gouraud) unit normal
     Vec3 geometric_normal{0.0};///< unit normal of the leaf triangle drawn
-    Vec2 uv{0.0};              ///< from the base mesh's UVs (0,0 without UVs)
+    /// From the base mesh's per-corner UVs; without UVs, the barycentric
+    /// weights of the base triangle's corners 1 and 2 at the hit.
+    Vec2 uv{0.0};
     int level = 0;             ///< subdivision level of the leaf that was hit
     std::uint32_t base_face = 0;
     /// Upper bound on how far `point` may lie from the exact ray/leaf hit and
