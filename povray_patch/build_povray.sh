@@ -188,7 +188,7 @@ fi
 configured_libs=$(sed -n 's/^LIBS = //p' "$src_dir/unix/Makefile")
 link_libs=""
 if [ -f "$lib_a" ]; then
-    link_libs="$lib_a -lOpenMeshCore -lpthread"
+    link_libs="$lib_a -lpthread"
     # make does not know the binary depends on the library.
     if [ "$src_dir/unix/povray" -ot "$lib_a" ]; then
         rm -f "$src_dir/unix/povray"
