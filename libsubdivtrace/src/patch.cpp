@@ -13,17 +13,18 @@ namespace {
 /// How many triangles of a uniform level meet at the vertex `key` (its whole
 /// ring): one per base face at a base vertex, three per face along a base
 /// edge, six inside a face.
-std::size_t true_incident_count(const BaseTopology& topo, const VertexKey& key) {
-    switch (key.kind) {
-        case VertexKey::base_vertex: return topo.faces_of_vertex(key.a).size();
-        case VertexKey::edge_point: return 3 * topo.edge_face_count(key.a, key.b);
-        default: return 6;
-    }
+std::uint16_t true_incident_count(const BaseTopology& topo, const VertexKey& key) {
+    // Saturates: a count this large never matches a patch's (it would need
+    // 65535 triangles at one vertex), so such a vertex is simply never whole.
+    std::size_t n = 6;
+    if (key.kind == VertexKey::base_vertex) n = topo.faces_of_vertex(key.a).size();
+    else if (key.kind == VertexKey::edge_point) n = 3 * topo.edge_face_count(key.a, key.b);
+    return static_cast<std::uint16_t>(std::min<std::size_t>(n, UINT16_MAX));
 }
 
 }  // namespace
 
-void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
+void Patch::finish(SchemeKind scheme) {
     const std::size_t n = verts.size();
     // Incident (triangle, corner) slots per vertex, CSR.
     std::vector<std::uint32_t>& offsets = incident_offsets;
@@ -54,7 +55,7 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
         PatchVertex& pv = verts[v];
         VertexDerived& dv = derived[v];
         const std::uint32_t count = offsets[v + 1] - offsets[v];
-        dv.has_ring = pv.has_position && count == true_incident_count(topo, pv.key);
+        dv.has_ring = pv.has_position && count == pv.true_ring;
         if (!dv.has_ring) continue;
         // The canonical order: pairs sorted by key, so every patch that holds
         // this whole ring sums and walks it in the same order.
@@ -72,13 +73,17 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
             continue;
         }
         std::sort(pairs.begin(), pairs.end(), pair_less);
-        order_ring(pairs, ordered, eq);
-        Ring& r = rings[v];
-        r.offset = static_cast<std::uint32_t>(ring_nbrs.size());
-        r.count = static_cast<std::uint32_t>(ordered.nbrs.size());
-        r.closed = ordered.closed;
-        r.regular = ordered.regular;
-        ring_nbrs.insert(ring_nbrs.end(), ordered.nbrs.begin(), ordered.nbrs.end());
+        if (scheme != SchemeKind::normal) {
+            // Loop's and Butterfly's stencils read the ordered ring; the
+            // normal scheme only sums the pairs.
+            order_ring(pairs, ordered, eq);
+            Ring& r = rings[v];
+            r.offset = static_cast<std::uint32_t>(ring_nbrs.size());
+            r.count = static_cast<std::uint32_t>(ordered.nbrs.size());
+            r.closed = ordered.closed;
+            r.regular = ordered.regular;
+            ring_nbrs.insert(ring_nbrs.end(), ordered.nbrs.begin(), ordered.nbrs.end());
+        }
 
         Vec3 sum(0.0);
         for (const auto& pr : pairs)
@@ -238,6 +243,7 @@ Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme) {
         const PatchVertex& pv = verts[v];
         PatchVertex& nv = next.verts[v];
         nv.key = pv.key;
+        nv.true_ring = pv.true_ring;
         nv.draw = pv.draw;
         nv.has_draw = pv.has_draw;
         if (scheme != SchemeKind::loop) {
@@ -279,9 +285,10 @@ Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme) {
             const std::uint32_t edge = tri_edges[3 * t + e];
             if (keyed[edge]) continue;
             keyed[edge] = true;
-            next.verts[old_count + edge].key =
-                topo.canonical(pt.id.face, level + 1, grid[e][0] + grid[(e + 1) % 3][0],
-                               grid[e][1] + grid[(e + 1) % 3][1]);
+            PatchVertex& nv = next.verts[old_count + edge];
+            nv.key = topo.canonical(pt.id.face, level + 1, grid[e][0] + grid[(e + 1) % 3][0],
+                                    grid[e][1] + grid[(e + 1) % 3][1]);
+            nv.true_ring = true_incident_count(topo, nv.key);
         }
         for (int c = 0; c < 4; ++c) {
             PatchTriangle& child = next.tris[4 * t + c];
@@ -350,6 +357,7 @@ Patch base_patch(const BaseTopology& topo, std::uint32_t face) {
         pv.key.a = local[k];
         pv.position = mesh.positions[local[k]];
         pv.has_position = true;
+        pv.true_ring = true_incident_count(topo, pv.key);
     }
     p.tris.reserve(faces.size());
     for (std::uint32_t f : faces) {
@@ -374,6 +382,7 @@ Patch whole_base_patch(const BaseTopology& topo) {
         p.verts[v].key.a = v;
         p.verts[v].position = mesh.positions[v];
         p.verts[v].has_position = true;
+        p.verts[v].true_ring = true_incident_count(topo, p.verts[v].key);
     }
     p.tris.resize(mesh.triangles.size());
     for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {

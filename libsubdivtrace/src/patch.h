@@ -31,6 +31,9 @@ struct PatchVertex {
     Vec3 draw{0.0};  ///< where leaves draw it: Loop limit point, else position
     bool has_position = false;
     bool has_draw = false;
+    /// Triangles around it at its level in the whole mesh (its ring is whole
+    /// in a patch that holds this many).
+    std::uint16_t true_ring = 0;
 };
 
 /// What finish() and subdivide() derive of a vertex at one level.
@@ -87,7 +90,7 @@ public:
 
     /// Rings, completeness, normals and (Loop) draw positions of vertices born
     /// at this level.
-    void finish(const BaseTopology& topo, SchemeKind scheme);
+    void finish(SchemeKind scheme);
 
     /// The triangles with a vertex at most one ring from `in_region`
     /// triangles' vertices (so those vertices' rings are whole).

@@ -155,7 +155,7 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch
                                    parent_patch->band([&](const NodeId& id) { return in_tile(id); }));
     } else {
         Patch p = base_patch(ctx.topo, root.face);
-        p.finish(ctx.topo, ctx.scheme);
+        p.finish(ctx.scheme);
         frontier_ = p.subdivide(ctx.topo, ctx.scheme);
     }
     build_level(1);
@@ -170,7 +170,7 @@ void Tile::build_level(int j) {
     // next level's edge points, which also become the next frontier.
     Patch& q = frontier_;
     q.trim([&](const NodeId& id) { return in_tile(id); });
-    q.finish(ctx_->topo, ctx_->scheme);
+    q.finish(ctx_->scheme);
     const int level = root_.level + j;
     Patch next;
     if (level < ctx_->max_level) next = q.subdivide(ctx_->topo, ctx_->scheme);
@@ -334,7 +334,7 @@ Shell CompactShell::expand(const Vec3& origin) const {
 
 RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     Patch whole = whole_base_patch(ctx.topo);
-    whole.finish(ctx.topo, ctx.scheme);
+    whole.finish(ctx.scheme);
     Patch next;
     if (ctx.max_level > 0) next = whole.subdivide(ctx.topo, ctx.scheme);
     // whole_base_patch keeps base vertex ids as local indices.
