@@ -40,7 +40,9 @@ Mesh patch_split_sphere() {
                 c[v] = 2.0 * j / k_n - 1.0;
                 m.positions.push_back(glm::normalize(c));
             }
-        auto at = [&](int i, int j) { return base + static_cast<std::uint32_t>(j * (k_n + 1) + i); };
+        auto at = [&](int i, int j) {
+            return base + static_cast<std::uint32_t>(j * (k_n + 1) + i);
+        };
         for (int j = 0; j < k_n; ++j)
             for (int i = 0; i < k_n; ++i) {
                 m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});

@@ -27,7 +27,9 @@ namespace {
     std::abort();
 }
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 /// Octahedron (closed, counter-clockwise from outside), radius 1.
 MeshArrays octahedron() {
@@ -93,7 +95,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         // Star-shaped around `offset`: radii within [0.8, 1.25] keep the
         // surface of every scheme far from the centre.
         a = in.ConsumeBool() ? icosahedron() : octahedron();
-        for (Vec3& p : a.positions) p = offset + p * in.ConsumeFloatingPointInRange(0.8, 1.25) * scale;
+        for (Vec3& p : a.positions)
+            p = offset + p * in.ConsumeFloatingPointInRange(0.8, 1.25) * scale;
     } else {
         const int nv = in.ConsumeIntegralInRange(3, 10);
         for (int i = 0; i < nv; ++i)

@@ -161,19 +161,21 @@ TEST_CASE("weld: UV seams keep every corner's UV exactly", "[weld]") {
 
 TEST_CASE("weld: near-coincident vertices only with a tolerance, collapsed faces dropped",
           "[weld]") {
-    // Move every seam copy after the first by 1e-9 or 2e-9: exact welding keeps the
-    // patches apart, a relative tolerance of 1e-7 joins them again.
+    // Move every seam copy after the first by 1e-9 or 2e-9 per axis: exact
+    // welding keeps the patches apart, a relative tolerance of 1e-7 joins them.
     MeshArrays split = testmesh::patch_split_sphere(k_n, false);
     const Mesh exact_before = build(split, WeldOptions{});
     std::map<std::array<double, 3>, int> copies;  // k-th copy moves by k * 1e-9
-    for (Vec3& p : split.positions)
-        if (const int k = copies[{p.x, p.y, p.z}]++; k > 0) p += Vec3(1e-9, -1e-9, 1e-9) * double(k);
+    for (Vec3& p : split.positions) {
+        const int k = copies[{p.x, p.y, p.z}]++;
+        if (k > 0) p += Vec3(1e-9, -1e-9, 1e-9) * double(k);
+    }
     WeldReport exact, near;
     const Mesh apart = build(split, WeldOptions{}, &exact);
     CHECK(exact.welded_vertices == 0);
     CHECK(analyze_mesh(apart).components == 6);
     WeldOptions tol;
-    tol.relative_tolerance = 1e-7;  // of the diagonal 2 sqrt(3): 3.5e-7 > 1.7e-9
+    tol.relative_tolerance = 1e-7;  // of the diagonal 2 sqrt(3): 3.5e-7 > 2e-9 sqrt(3)
     const Mesh joined = build(split, tol, &near);
     CHECK(near.welded_vertices ==
           split.positions.size() - testmesh::patch_split_sphere(k_n, true).positions.size());
