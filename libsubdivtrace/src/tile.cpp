@@ -103,23 +103,13 @@ std::size_t local_triangle_index(std::uint32_t n, std::uint32_t x, std::uint32_t
 
 }  // namespace
 
-NodeId parent_of(const NodeId& id) {
-    NodeId p;
-    p.face = id.face;
-    p.level = static_cast<std::uint8_t>(id.level - 1);
-    p.i = id.i / 2;
-    p.j = id.j / 2;
-    // child_of: an up parent's children have at most one odd coordinate or
-    // "down" flag among (i, j, down); a down parent's have two or three.
-    p.down = (id.i % 2) + (id.j % 2) + (id.down ? 1 : 0) >= 2;
-    return p;
-}
-
 NodeId ancestor_at(const NodeId& id, int level) {
     if (id.level <= level) return id;
     // The ancestor's cell is the grid position shifted down; within a cell
     // of side 2^s, a descendant lies in the "down" half when its local
-    // coordinates plus its own down flag reach 2^s (parent_of applied s times).
+    // coordinates plus its own down flag reach 2^s (child_of's layout: an up
+    // parent's children have at most one odd coordinate or down flag among
+    // (i, j, down), a down parent's two or three; this is that, s levels at once).
     const int s = id.level - level;
     const std::uint32_t mask = (std::uint32_t{1} << s) - 1;
     NodeId a;

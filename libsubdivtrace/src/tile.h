@@ -68,8 +68,6 @@ public:
     /// `ctx` must outlive the tile.
     Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch);
 
-    const NodeId& root() const { return root_; }
-    int depth() const { return depth_; }
 
     /// The record of descendant `id` (root.level < id.level <= root.level + depth),
     /// building its level first if needed. Thread-safe.
@@ -129,8 +127,7 @@ private:
     std::vector<CompactShell> shells_;
 };
 
-/// The node's parent (level >= 1) and its ancestor at `level`.
-NodeId parent_of(const NodeId& id);
+/// The node's ancestor at `level` (the node itself at its own level).
 NodeId ancestor_at(const NodeId& id, int level);
 
 }  // namespace subdivtrace::detail

@@ -4,12 +4,14 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <random>
 #include <thread>
 
 #include <glm/geometric.hpp>
 
 #include "subdivtrace/hierarchy.h"
 #include "subdivtrace/uniform.h"
+#include "tile.h"
 #include "test_meshes.h"
 
 using namespace subdivtrace;
@@ -148,4 +150,25 @@ TEST_CASE("Loop leaves are drawn at the limit points of uniform subdivision", "[
         }
         CHECK(worst <= 1e-12);
     }
+}
+
+TEST_CASE("a node's ancestor by grid arithmetic is the one its child path went through",
+          "[hierarchy]") {
+    // tile.cpp finds a node's tile root and tests tile membership with
+    // ancestor_at (shifts, no walk); the truth is the path of child_of calls.
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> pick(0, 3);
+    int checked = 0, wrong = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        std::vector<NodeId> path = {Hierarchy::root(static_cast<std::uint32_t>(trial % 5))};
+        for (int level = 1; level <= 9; ++level) path.push_back(child_of(path.back(), pick(rng)));
+        for (std::size_t at = 0; at < path.size(); ++at) {
+            for (std::size_t below = at; below < path.size(); ++below) {
+                wrong += !(detail::ancestor_at(path[below], static_cast<int>(at)) == path[at]);
+                ++checked;
+            }
+        }
+    }
+    CHECK(checked == 2000 * 55);
+    CHECK(wrong == 0);
 }
