@@ -81,8 +81,9 @@ public:
     const detail::Tile* front_tile(const NodeId& root) {
         // A few tiles per thread in front of the shared cache: a ray's
         // neighbours descend through the same tiles, and this spares them the
-        // shared cache's lock. Tiles never change once built, so a thread
-        // holding one cannot see a value the cache would not give.
+        // shared cache's lock. A tile's values never change once computed
+        // (lazy levels are added under its own lock), so a thread holding
+        // one cannot see a value the cache would not give.
         struct Front {
             std::uint64_t owner = 0;
             struct Slot {
