@@ -230,7 +230,7 @@ Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
     return subdivtrace::edge_point(scheme, s);
 }
 
-Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme) {
+Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_triangles) {
     build_edges();
     Patch next;
     next.level = level + 1;
@@ -275,6 +275,7 @@ Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme) {
         derived[edge.b].displacement = std::max(derived[edge.b].displacement, d);
     }
 
+    if (!with_triangles) return next;
     // Each triangle becomes four, in the hierarchy's child order.
     next.tris.resize(4 * tris.size());
     std::vector<bool> keyed(edges.size(), false);

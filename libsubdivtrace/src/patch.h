@@ -107,7 +107,9 @@ public:
     /// The edge list (tri_edges) and per-vertex displacement of the next level,
     /// then the next level's patch (every triangle split 1-to-4). Values whose
     /// stencil is incomplete are marked invalid. Call after finish().
-    Patch subdivide(const BaseTopology& topo, SchemeKind scheme);
+    /// With `with_triangles` false, only the next level's vertex positions
+    /// (no triangles, no keys): what shells read.
+    Patch subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_triangles = true);
 
     void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
 

@@ -325,8 +325,11 @@ Shell CompactShell::expand(const Vec3& origin) const {
 RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     Patch whole = whole_base_patch(ctx.topo);
     whole.finish(ctx.scheme);
+    // The next level's positions only: the shells read its edge points (and
+    // Loop's moved corners), never its triangles, which for a large mesh
+    // would be most of the construction's peak memory.
     Patch next;
-    if (ctx.max_level > 0) next = whole.subdivide(ctx.topo, ctx.scheme);
+    if (ctx.max_level > 0) next = whole.subdivide(ctx.topo, ctx.scheme, false);
     // whole_base_patch keeps base vertex ids as local indices.
     normal_.resize(whole.verts.size());
     if (ctx.scheme == SchemeKind::loop) draw_.resize(whole.verts.size());
