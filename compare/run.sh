@@ -55,6 +55,11 @@ py=/usr/bin/python3
 mesh="$repo/data/blob5k.obj"
 out="$build/compare"
 mkdir -p "$out"
+# A fresh run starts from no renders: a view's directory left by the other
+# mode (--quick renders 320x240, the full run 640x480) would mix sizes.
+if [[ $reuse == 0 ]]; then
+    rm -rf "$out/far" "$out/close" "$out/povray"
+fi
 
 if [[ $quick == 1 ]]; then
     size=(--width 320 --height 240)
@@ -249,6 +254,8 @@ EOF
         fi
         pov_render "mesh2_l$k" "#include \"mesh2_l$k.inc\" object { Blob_l$k $material }" || true
     done
+elif [[ $povray_on == 0 ]]; then
+    echo "== POV-Ray sweep skipped (--no-povray)"
 else
     echo "== POV-Ray sweep skipped (no executable at $pov)"
 fi
