@@ -278,6 +278,9 @@ Polygons read_ply(const std::string& path, const std::string& data,
         if (is_vertex) {
             m.positions.reserve(static_cast<std::size_t>(e.count));
         }
+        // An element without properties holds no bytes, whatever its count:
+        // nothing to read, and counting to 4e8 would hang (found by fuzzing).
+        if (e.props.empty()) continue;
         for (std::int64_t n = 0; n < e.count; ++n) {
             in.set_context(e.name, n);
             row.assign(e.props.size(), 0.0);
