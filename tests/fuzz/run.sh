@@ -17,6 +17,9 @@ total=${1:-100}
 build=${FUZZ_BUILD_DIR:-build-fuzz}
 harnesses=(read_obj read_off read_ply read_stl trace)
 per=$(( total / ${#harnesses[@]} ))
+# FUZZ_SEED fixes libFuzzer's random seed (CI: the same mutations every run,
+# so a green build stays green; 0 = a new seed each run, for campaigns).
+seed=${FUZZ_SEED:-0}
 [ "$per" -ge 1 ] || per=1
 
 CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -43,7 +46,7 @@ for h in "${harnesses[@]}"; do
             continue
         fi
     fi
-    if "$bin" "${dict[@]}" -max_total_time="$per" -timeout=10 -rss_limit_mb=2048 \
+    if "$bin" "${dict[@]}" -seed="$seed" -max_total_time="$per" -timeout=10 -rss_limit_mb=2048 \
         -print_final_stats=1 -artifact_prefix="$build/artifacts/$h-" "$work" "$seeds" > "$log" 2>&1; then
         runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
         cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 || true)
