@@ -266,11 +266,6 @@ std::size_t Tile::bytes_when_complete() const {
     return bytes;
 }
 
-std::size_t TileLevel::owned_bytes() const {
-    return (position.capacity() + normal.capacity() + draw.capacity()) * sizeof(Vec3) +
-           shells.capacity() * sizeof(CompactShell);
-}
-
 namespace {
 
 constexpr float k_float_inf = std::numeric_limits<float>::infinity();

@@ -55,7 +55,6 @@ struct TileLevel {
     std::vector<Vec3> normal;
     std::vector<Vec3> draw;  ///< Loop only (interpolating schemes draw at position)
     std::vector<CompactShell> shells;
-    std::size_t owned_bytes() const;
 };
 
 /// The records of a node's descendants, levels root.level+1 .. root.level+depth.
