@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "creases.h"
+
 namespace subdivtrace::detail {
 
 namespace {
@@ -23,6 +25,18 @@ BaseTopology::BaseTopology(const Mesh& mesh) : mesh_(mesh) {
         }
     }
     for (const auto& entry : edge_faces_) closed_ = closed_ && entry.second.size() == 2;
+    crease_mask_ = crease_masks(mesh);
+    const bool any_crease = std::any_of(crease_mask_.begin(), crease_mask_.end(),
+                                        [](std::uint8_t m) { return m != 0; });
+    if (!any_crease) crease_mask_.clear();
+    on_curve_.assign(mesh.positions.size(), 0);
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+        const Triangle& t = mesh.triangles[f];
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t u = t[e], w = t[(e + 1) % 3];
+            if (is_crease(f, e) || edge_face_count(u, w) == 1) on_curve_[u] = on_curve_[w] = 1;
+        }
+    }
 }
 
 const std::vector<std::uint32_t>* BaseTopology::faces_of_edge(std::uint32_t lo,

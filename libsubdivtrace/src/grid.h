@@ -84,6 +84,16 @@ public:
     /// True if every base edge has exactly two triangles.
     bool closed() const { return closed_; }
 
+    /// True if edge e (corner e to e + 1) of base triangle `face` is a crease (creases.h).
+    bool is_crease(std::uint32_t face, int e) const {
+        return !crease_mask_.empty() && (crease_mask_[face] >> e & 1u) != 0;
+    }
+    bool has_creases() const { return !crease_mask_.empty(); }
+    /// True if base vertex v touches a boundary edge (one triangle) or a
+    /// crease: only such vertices, and edge points between two of them, can
+    /// lie on a curve of the subdivided surface.
+    bool on_curve(std::uint32_t v) const { return on_curve_[v] != 0; }
+
 private:
     const std::vector<std::uint32_t>* faces_of_edge(std::uint32_t lo, std::uint32_t hi) const;
 
@@ -94,6 +104,8 @@ private:
     };
     std::unordered_map<std::uint64_t, std::vector<std::uint32_t>, PairHash> edge_faces_;
     bool closed_ = true;
+    std::vector<std::uint8_t> crease_mask_;  ///< empty when the mesh has no crease
+    std::vector<std::uint8_t> on_curve_;
 };
 
 /// The grid triangles of resolution n that have grid point (i, j) as a

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <tuple>
 
+#include "creases.h"
 #include "ring_order.h"
 
 namespace subdivtrace {
 
 LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
-                             const std::vector<Triangle>& triangles) {
+                             const std::vector<Triangle>& triangles,
+                             const std::vector<std::uint8_t>& crease_masks) {
     const std::size_t vertex_count = positions.size();
     const std::size_t face_count = triangles.size();
 
@@ -40,6 +42,12 @@ LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
         e.c = first[(slots[i].corner + 2) % 3];
         e.face_count = static_cast<std::uint32_t>(j - i);
         e.interior = e.face_count == 2;
+        e.face = slots[i].face;
+        e.corner = slots[i].corner;
+        e.curve = e.face_count == 1;
+        if (!crease_masks.empty() && e.face_count == 2)
+            for (std::size_t k = i; k < j; ++k)
+                e.curve = e.curve || (crease_masks[slots[k].face] >> slots[k].corner & 1u) != 0;
         if (e.interior) {
             const Triangle& second = triangles[slots[i + 1].face];
             e.d = second[(slots[i + 1].corner + 2) % 3];
@@ -50,15 +58,46 @@ LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
         i = j;
     }
 
-    // Rings: incident triangles per vertex (CSR), then chained into fans.
-    std::vector<std::size_t> inc_offsets(vertex_count + 1, 0);
+    // Curves: the boundary and crease edges at each vertex.
+    curve_count_.assign(vertex_count, 0);
+    curve_nbr_.assign(2 * vertex_count, 0);
+    for (const Edge& e : edges_) {
+        if (!e.curve) continue;
+        for (const auto& [v, w] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
+            if (curve_count_[v] < 2) curve_nbr_[2 * v + curve_count_[v]] = w;
+            if (curve_count_[v] < 3) ++curve_count_[v];
+        }
+    }
+
+    // Rings: incident corner slots per vertex (CSR), then chained into fans.
+    std::vector<std::size_t>& inc_offsets = inc_offsets_;
+    inc_offsets.assign(vertex_count + 1, 0);
     for (const Triangle& t : triangles)
         for (std::uint32_t v : t) ++inc_offsets[v + 1];
     for (std::size_t v = 0; v < vertex_count; ++v) inc_offsets[v + 1] += inc_offsets[v];
-    std::vector<std::uint32_t> incident(inc_offsets.back());
+    inc_slots_.resize(inc_offsets.back());
     std::vector<std::size_t> fill(inc_offsets.begin(), inc_offsets.end() - 1);
     for (std::uint32_t t = 0; t < face_count; ++t)
-        for (std::uint32_t v : triangles[t]) incident[fill[v]++] = t;
+        for (std::uint32_t c = 0; c < 3; ++c) inc_slots_[fill[triangles[t][c]]++] = 3 * t + c;
+
+    // Sectors, where creases pass.
+    sector_labels_.assign(vertex_count, {});
+    single_sector_.assign(vertex_count, 1);
+    if (!crease_masks.empty()) {
+        std::vector<detail::FanCorner> corners;
+        for (std::uint32_t v = 0; v < vertex_count; ++v) {
+            if (curve_count_[v] == 0) continue;
+            corners.clear();
+            for (std::size_t k = inc_offsets[v]; k < inc_offsets[v + 1]; ++k) {
+                const std::uint32_t slot = inc_slots_[k], c = slot % 3;
+                const std::uint32_t e_next = face_edges_[slot];
+                const std::uint32_t e_prev = face_edges_[slot - c + (c + 2) % 3];
+                corners.push_back({e_prev, e_next, edges_[e_prev].curve, edges_[e_next].curve});
+            }
+            if (detail::label_sectors(corners, sector_labels_[v]) > 1) single_sector_[v] = 0;
+            else sector_labels_[v].clear();
+        }
+    }
 
     ring_offsets_.assign(vertex_count + 1, 0);
     ring_closed_.assign(vertex_count, 0);
@@ -70,8 +109,8 @@ LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
     for (std::uint32_t v = 0; v < vertex_count; ++v) {
         pairs.clear();
         for (std::size_t k = inc_offsets[v]; k < inc_offsets[v + 1]; ++k) {
-            const Triangle& t = triangles[incident[k]];
-            const int i = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+            const Triangle& t = triangles[inc_slots_[k] / 3];
+            const std::uint32_t i = inc_slots_[k] % 3;
             pairs.push_back({t[(i + 1) % 3], t[(i + 2) % 3]});
         }
         detail::order_ring(pairs, ordered, eq);
@@ -90,6 +129,9 @@ void LevelTopology::fill_ring(std::uint32_t v, const std::vector<Vec3>& position
     ring.nbrs.clear();
     for (std::size_t k = ring_offsets_[v]; k < ring_offsets_[v + 1]; ++k)
         ring.nbrs.push_back(positions[ring_nbrs_[k]]);
+    ring.curve_count = curve_count_[v];
+    if (ring.curve_count == 2)
+        for (int k = 0; k < 2; ++k) ring.curve[k] = positions[curve_nbr_[2 * v + k]];
 }
 
 std::size_t LevelTopology::ring_index(std::uint32_t v, std::uint32_t w) const {
@@ -98,17 +140,30 @@ std::size_t LevelTopology::ring_index(std::uint32_t v, std::uint32_t w) const {
     return 0;
 }
 
-std::vector<Vec3> gouraud_normals(const std::vector<Vec3>& positions,
-                                  const std::vector<Triangle>& triangles) {
-    std::vector<Vec3> sums(positions.size(), Vec3(0.0));
-    for (const Triangle& t : triangles) {
-        for (int i = 0; i < 3; ++i) {
-            sums[t[i]] += angle_weighted_normal(positions[t[i]], positions[t[(i + 1) % 3]],
-                                                positions[t[(i + 2) % 3]]);
+std::vector<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& positions,
+                                               const std::vector<Triangle>& triangles,
+                                               const std::vector<Vec3>& given) const {
+    std::vector<Vec3> out(3 * triangles.size(), Vec3(0.0));
+    std::vector<Vec3> sums;
+    for (std::uint32_t v = 0; v < positions.size(); ++v) {
+        const std::vector<std::uint32_t>& labels = sector_labels_[v];
+        std::uint32_t count = 1;
+        for (std::uint32_t l : labels) count = std::max(count, l + 1);
+        sums.assign(count, Vec3(0.0));
+        for (std::size_t k = inc_offsets_[v]; k < inc_offsets_[v + 1]; ++k) {
+            const std::uint32_t slot = inc_slots_[k], c = slot % 3;
+            const Triangle& t = triangles[slot / 3];
+            const Vec3 n = !given.empty() && given[slot] != Vec3(0.0)
+                               ? given[slot]
+                               : angle_weighted_normal(positions[v], positions[t[(c + 1) % 3]],
+                                                       positions[t[(c + 2) % 3]]);
+            sums[labels.empty() ? 0 : labels[k - inc_offsets_[v]]] += n;
         }
+        for (Vec3& sum : sums) sum = finish_normal(sum);
+        for (std::size_t k = inc_offsets_[v]; k < inc_offsets_[v + 1]; ++k)
+            out[inc_slots_[k]] = sums[labels.empty() ? 0 : labels[k - inc_offsets_[v]]];
     }
-    for (Vec3& n : sums) n = finish_normal(n);
-    return sums;
+    return out;
 }
 
 }  // namespace subdivtrace

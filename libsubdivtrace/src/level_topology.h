@@ -1,6 +1,7 @@
 #pragma once
 // Connectivity of one level of a mesh held in plain arrays: edges with their
-// opposite vertices, ordered vertex rings, and Gouraud normals.
+// opposite vertices, curves (boundaries and creases), ordered vertex rings,
+// and per-sector normals.
 
 #include <cstdint>
 #include <vector>
@@ -19,16 +20,37 @@ public:
         std::uint32_t d = 0;  ///< third vertex of the other triangle (interior only)
         std::uint32_t face_count = 0;
         bool interior = false;  ///< exactly two triangles
+        bool curve = false;     ///< one triangle (boundary), or a crease
+        std::uint32_t face = 0;    ///< the first triangle that has the edge
+        std::uint8_t corner = 0;   ///< a is that triangle's corner `corner`
     };
 
-    LevelTopology(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles);
+    /// `crease_masks`: per triangle, bit e set if its edge e is a crease
+    /// (creases.h); empty for none.
+    LevelTopology(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
+                  const std::vector<std::uint8_t>& crease_masks = {});
 
     std::uint32_t edge_count() const { return static_cast<std::uint32_t>(edges_.size()); }
     const Edge& edge(std::uint32_t e) const { return edges_[e]; }
     /// Edge i of triangle t runs from corner i to corner (i + 1) % 3.
     std::uint32_t face_edge(std::size_t t, int i) const { return face_edges_[3 * t + i]; }
 
-    /// The ordered ring of v with positions filled in.
+    /// Curve edges at v, and with exactly two, their other ends.
+    int curve_count(std::uint32_t v) const { return curve_count_[v]; }
+    std::uint32_t curve_nbr(std::uint32_t v, int k) const { return curve_nbr_[2 * v + k]; }
+
+    /// Per corner (3t + c): the vertex's normal over its sector, the
+    /// triangles around it between creases. `given` (per corner, or empty)
+    /// replaces the angle-weighted Gouraud sum where it is non-zero.
+    std::vector<Vec3> sector_normals(const std::vector<Vec3>& positions,
+                                     const std::vector<Triangle>& triangles,
+                                     const std::vector<Vec3>& given = {}) const;
+    /// Whether v's triangles form one sector (no crease splits them).
+    bool single_sector(std::uint32_t v) const { return single_sector_[v] != 0; }
+    /// A corner slot 3t + c of v.
+    std::uint32_t first_slot(std::uint32_t v) const { return inc_slots_[inc_offsets_[v]]; }
+
+    /// The ordered ring of v with positions (and curve neighbours) filled in.
     void fill_ring(std::uint32_t v, const std::vector<Vec3>& positions, VertexRing& ring) const;
     /// Position of w in v's ring (0 if absent).
     std::size_t ring_index(std::uint32_t v, std::uint32_t w) const;
@@ -43,11 +65,12 @@ private:
     std::vector<std::uint32_t> ring_nbrs_;
     std::vector<std::uint8_t> ring_closed_;
     std::vector<std::uint8_t> ring_regular_;
+    std::vector<std::uint8_t> curve_count_;
+    std::vector<std::uint32_t> curve_nbr_;
+    std::vector<std::size_t> inc_offsets_;   ///< incident corner slots 3t + c, CSR
+    std::vector<std::uint32_t> inc_slots_;
+    std::vector<std::vector<std::uint32_t>> sector_labels_;  ///< per vertex, by incident slot; empty = one
+    std::vector<std::uint8_t> single_sector_;
 };
-
-/// Per-vertex angle-weighted Gouraud normals (unit, or zero where no triangle
-/// with area touches the vertex).
-std::vector<Vec3> gouraud_normals(const std::vector<Vec3>& positions,
-                                  const std::vector<Triangle>& triangles);
 
 }  // namespace subdivtrace

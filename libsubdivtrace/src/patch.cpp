@@ -4,6 +4,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "creases.h"
 #include "ring_order.h"
 
 namespace subdivtrace::detail {
@@ -24,7 +25,7 @@ std::uint16_t true_incident_count(const BaseTopology& topo, const VertexKey& key
 
 }  // namespace
 
-void Patch::finish(SchemeKind scheme) {
+void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     const std::size_t n = verts.size();
     // Incident (triangle, corner) slots per vertex, CSR.
     std::vector<std::uint32_t>& offsets = incident_offsets;
@@ -40,68 +41,148 @@ void Patch::finish(SchemeKind scheme) {
             for (std::uint32_t c = 0; c < 3; ++c) slots[fill[tris[t].v[c]]++] = 3 * t + c;
     }
 
+    // Which vertices have their whole ring (with positions) in the patch;
+    // then the edges, which need to know it.
     rings.assign(n, Ring{});
     derived.assign(n, VertexDerived{});
-    ring_nbrs.clear();
-    std::vector<FanPair<std::uint32_t>> pairs;
-    OrderedRing<std::uint32_t> ordered;
-    const auto eq = [](std::uint32_t x, std::uint32_t y) { return x == y; };
-    const auto pair_less = [&](const FanPair<std::uint32_t>& x, const FanPair<std::uint32_t>& y) {
-        if (x.from != y.from) return key_less(verts[x.from].key, verts[y.from].key);
-        return key_less(verts[x.to].key, verts[y.to].key);
-    };
-    VertexRing ring;
     for (std::uint32_t v = 0; v < n; ++v) {
-        PatchVertex& pv = verts[v];
         VertexDerived& dv = derived[v];
-        const std::uint32_t count = offsets[v + 1] - offsets[v];
-        dv.has_ring = pv.has_position && count == pv.true_ring;
-        if (!dv.has_ring) continue;
-        // The canonical order: pairs sorted by key, so every patch that holds
-        // this whole ring sums and walks it in the same order.
-        pairs.clear();
-        bool ring_positions = true;
-        for (std::uint32_t k = offsets[v]; k < offsets[v + 1]; ++k) {
+        dv.has_ring = verts[v].has_position && offsets[v + 1] - offsets[v] == verts[v].true_ring;
+        for (std::uint32_t k = offsets[v]; k < offsets[v + 1] && dv.has_ring; ++k) {
             const PatchTriangle& t = tris[slots[k] / 3];
-            const std::uint32_t c = slots[k] % 3;
-            pairs.push_back({t.v[(c + 1) % 3], t.v[(c + 2) % 3]});
-            ring_positions = ring_positions && verts[pairs.back().from].has_position &&
-                             verts[pairs.back().to].has_position;
-        }
-        if (!ring_positions) {
-            dv.has_ring = false;
-            continue;
-        }
-        std::sort(pairs.begin(), pairs.end(), pair_less);
-        if (scheme != SchemeKind::normal) {
-            // Loop's and Butterfly's stencils read the ordered ring; the
-            // normal scheme only sums the pairs.
-            order_ring(pairs, ordered, eq);
-            Ring& r = rings[v];
-            r.offset = static_cast<std::uint32_t>(ring_nbrs.size());
-            r.count = static_cast<std::uint32_t>(ordered.nbrs.size());
-            r.closed = ordered.closed;
-            r.regular = ordered.regular;
-            ring_nbrs.insert(ring_nbrs.end(), ordered.nbrs.begin(), ordered.nbrs.end());
-        }
-
-        Vec3 sum(0.0);
-        for (const auto& pr : pairs)
-            sum += angle_weighted_normal(pv.position, verts[pr.from].position, verts[pr.to].position);
-        dv.normal = finish_normal(sum);
-        dv.has_normal = true;
-        if (scheme == SchemeKind::loop && pv.key.level == level) {
-            // Loop draws a vertex at its limit point, from its birth-level ring.
-            fill_vertex_ring(v, ring);
-            pv.draw = loop_limit_point(ring);
-            pv.has_draw = true;
+            for (std::uint32_t w : t.v) dv.has_ring = dv.has_ring && verts[w].has_position;
         }
     }
+    build_edges(topo);
+
+    ring_nbrs.clear();
+    corner_normal.assign(3 * tris.size(), Vec3(0.0));
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (derived[v].has_ring) finish_vertex(topo, scheme, v);
     if (scheme != SchemeKind::loop) {
         for (PatchVertex& pv : verts) {
             pv.draw = pv.position;
             pv.has_draw = pv.has_position;
         }
+    }
+}
+
+namespace {
+
+/// The triangles around a vertex as (from, to) pairs with their corner slot.
+struct SlotPair {
+    std::uint32_t from;
+    std::uint32_t to;
+    std::uint32_t slot;
+};
+
+/// True if the vertex can lie on a curve: a base vertex at a boundary or
+/// crease, or a point of a base edge between two such vertices.
+bool may_be_on_curve(const BaseTopology& topo, const VertexKey& key) {
+    if (key.kind == VertexKey::base_vertex) return topo.on_curve(key.a);
+    if (key.kind == VertexKey::edge_point) return topo.on_curve(key.a) && topo.on_curve(key.b);
+    return false;
+}
+
+}  // namespace
+
+void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v) {
+    PatchVertex& pv = verts[v];
+    VertexDerived& dv = derived[v];
+    const std::uint32_t first = incident_offsets[v], last = incident_offsets[v + 1];
+    // The canonical order: pairs sorted by key (then base face, for a
+    // duplicated base triangle), so every patch that holds this whole ring
+    // sums and walks it in the same order.
+    thread_local std::vector<SlotPair> pairs;
+    pairs.clear();
+    for (std::uint32_t k = first; k < last; ++k) {
+        const std::uint32_t slot = incident_slots[k];
+        const PatchTriangle& t = tris[slot / 3];
+        const std::uint32_t c = slot % 3;
+        pairs.push_back({t.v[(c + 1) % 3], t.v[(c + 2) % 3], slot});
+    }
+    std::sort(pairs.begin(), pairs.end(), [&](const SlotPair& x, const SlotPair& y) {
+        if (verts[x.from].key != verts[y.from].key) return key_less(verts[x.from].key, verts[y.from].key);
+        if (verts[x.to].key != verts[y.to].key) return key_less(verts[x.to].key, verts[y.to].key);
+        return tris[x.slot / 3].id.face < tris[y.slot / 3].id.face;
+    });
+
+    // Curves and sectors, where a boundary or crease can pass.
+    thread_local std::vector<std::uint32_t> labels;
+    std::uint32_t sector_count = 1;
+    labels.assign(pairs.size(), 0);
+    if (may_be_on_curve(topo, pv.key)) {
+        thread_local std::vector<FanCorner> corners;
+        corners.clear();
+        std::uint32_t curve_edges[3] = {0, 0, 0};
+        int curve_count = 0;
+        for (const SlotPair& pr : pairs) {
+            const std::uint32_t c = pr.slot % 3;
+            const std::uint32_t e_next = tri_edges[pr.slot];
+            const std::uint32_t e_prev = tri_edges[pr.slot - c + (c + 2) % 3];
+            corners.push_back({e_prev, e_next, edges[e_prev].curve, edges[e_next].curve});
+            for (std::uint32_t e : {e_prev, e_next}) {
+                if (!edges[e].curve) continue;
+                bool seen = false;
+                for (int k = 0; k < std::min(curve_count, 3); ++k) seen = seen || curve_edges[k] == e;
+                if (seen) continue;
+                if (curve_count < 3) curve_edges[curve_count] = e;
+                ++curve_count;
+            }
+        }
+        dv.curve_count = static_cast<std::uint8_t>(std::min(curve_count, 3));
+        if (curve_count == 2) {
+            for (int k = 0; k < 2; ++k) {
+                const PatchEdge& e = edges[curve_edges[k]];
+                dv.curve[k] = e.a == v ? e.b : e.a;
+            }
+            if (key_less(verts[dv.curve[1]].key, verts[dv.curve[0]].key)) std::swap(dv.curve[0], dv.curve[1]);
+        }
+        sector_count = label_sectors(corners, labels);
+        dv.single_sector = sector_count == 1;
+    }
+
+    if (scheme != SchemeKind::normal) {
+        // Loop's and Butterfly's stencils read the ordered ring; the normal
+        // scheme only sums the pairs.
+        thread_local std::vector<FanPair<std::uint32_t>> fan;
+        thread_local OrderedRing<std::uint32_t> ordered;
+        fan.clear();
+        for (const SlotPair& pr : pairs) fan.push_back({pr.from, pr.to});
+        order_ring(fan, ordered, [](std::uint32_t x, std::uint32_t y) { return x == y; });
+        Ring& r = rings[v];
+        r.offset = static_cast<std::uint32_t>(ring_nbrs.size());
+        r.count = static_cast<std::uint32_t>(ordered.nbrs.size());
+        r.closed = ordered.closed;
+        r.regular = ordered.regular;
+        ring_nbrs.insert(ring_nbrs.end(), ordered.nbrs.begin(), ordered.nbrs.end());
+    }
+
+    // One normal per sector: the given normals of a base vertex (normal
+    // scheme), else angle-weighted Gouraud over the sector's triangles.
+    const Mesh& mesh = topo.mesh();
+    const bool given = scheme == SchemeKind::normal && mesh.has_normals() &&
+                       pv.key.kind == VertexKey::base_vertex &&
+                       (level == 0 || k_given_normals_every_level);
+    thread_local std::vector<Vec3> sums;
+    sums.assign(sector_count, Vec3(0.0));
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const SlotPair& pr = pairs[k];
+        const Vec3 g = given ? given_normal(mesh, tris[pr.slot / 3].id.face, pv.key.a) : Vec3(0.0);
+        sums[labels[k]] += g != Vec3(0.0) ? g
+                                          : angle_weighted_normal(pv.position, verts[pr.from].position,
+                                                                  verts[pr.to].position);
+    }
+    for (Vec3& sum : sums) sum = finish_normal(sum);
+    for (std::size_t k = 0; k < pairs.size(); ++k) corner_normal[pairs[k].slot] = sums[labels[k]];
+    dv.has_normal = true;
+
+    if (scheme == SchemeKind::loop && pv.key.level == level) {
+        // Loop draws a vertex at its limit point, from its birth-level ring.
+        thread_local VertexRing ring;
+        fill_vertex_ring(v, ring);
+        pv.draw = loop_limit_point(ring);
+        pv.has_draw = true;
     }
 }
 
@@ -112,10 +193,15 @@ void Patch::fill_vertex_ring(std::uint32_t v, VertexRing& ring) const {
     ring.regular = r.regular;
     ring.nbrs.clear();
     for (std::uint32_t k = 0; k < r.count; ++k) ring.nbrs.push_back(verts[ring_nbrs[r.offset + k]].position);
+    const VertexDerived& d = derived[v];
+    ring.curve_count = d.curve_count;
+    if (d.curve_count == 2)
+        for (int k = 0; k < 2; ++k) ring.curve[k] = verts[d.curve[k]].position;
 }
 
 void Patch::drop_derived() {
     derived = {};
+    corner_normal = {};
     rings = {};
     ring_nbrs = {};
     incident_offsets = {};
@@ -128,7 +214,7 @@ void Patch::drop_derived() {
 
 std::size_t Patch::owned_bytes() const {
     return verts.capacity() * sizeof(PatchVertex) + tris.capacity() * sizeof(PatchTriangle) +
-           derived.capacity() * sizeof(VertexDerived) +
+           derived.capacity() * sizeof(VertexDerived) + corner_normal.capacity() * sizeof(Vec3) +
            rings.capacity() * sizeof(Ring) + ring_nbrs.capacity() * sizeof(std::uint32_t) +
            (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +
            edges.capacity() * sizeof(PatchEdge) + tri_edges.capacity() * sizeof(std::uint32_t);
@@ -136,19 +222,23 @@ std::size_t Patch::owned_bytes() const {
 
 namespace {
 
-/// True if edge e of grid triangle `id` lies on its base triangle's boundary.
-bool on_base_triangle_boundary(const NodeId& id, int e) {
+/// The edge of its base triangle (0: corners 0-1, 1: 1-2, 2: 2-0) that edge
+/// e of grid triangle `id` lies on, or -1 if it lies inside.
+int base_edge_under(const NodeId& id, int e) {
     const auto g = node_corner_grid(id);
     const auto& p = g[e];
     const auto& q = g[(e + 1) % 3];
     const std::uint32_t n = std::uint32_t{1} << id.level;
-    return (p[0] == 0 && q[0] == 0) || (p[1] == 0 && q[1] == 0) ||
-           (p[0] + p[1] == n && q[0] + q[1] == n);
+    // Grid point (i, j) has weight n - i - j on corner 0, i on 1, j on 2.
+    if (p[1] == 0 && q[1] == 0) return 0;
+    if (p[0] + p[1] == n && q[0] + q[1] == n) return 1;
+    if (p[0] == 0 && q[0] == 0) return 2;
+    return -1;
 }
 
 }  // namespace
 
-void Patch::build_edges() {
+void Patch::build_edges(const BaseTopology& topo) {
     // Every edge once, found through the incident triangles of its endpoint
     // (finish() built them): the triangles on edge (u, w) all meet u.
     constexpr std::uint32_t k_unset = UINT32_MAX;
@@ -162,7 +252,8 @@ void Patch::build_edges() {
             // An edge inside a base triangle belongs to that triangle alone
             // (its point is a face point): a duplicate base triangle over the
             // same vertices has its own. Edges on a base edge are shared.
-            const bool on_base_edge = on_base_triangle_boundary(tris[t].id, e);
+            const int base_edge = base_edge_under(tris[t].id, static_cast<int>(e));
+            const bool on_base_edge = base_edge >= 0;
             PatchEdge edge;
             for (std::uint32_t k = incident_offsets[u]; k < incident_offsets[u + 1]; ++k) {
                 const std::uint32_t slot = incident_slots[k];
@@ -181,6 +272,8 @@ void Patch::build_edges() {
             edge.a = u_first ? u : w;
             edge.b = u_first ? w : u;
             edge.valid = derived[edge.a].has_ring && derived[edge.b].has_ring;
+            edge.curve = edge.slot_count == 1 ||
+                         (on_base_edge && topo.is_crease(tris[t].id.face, base_edge));
             edges.push_back(edge);
         }
     }
@@ -190,9 +283,19 @@ Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
     EdgeStencil s;
     s.a = verts[e.a].position;
     s.b = verts[e.b].position;
+    s.curve = e.curve;
+    if (e.curve) {
+        fill_curve_end(e.a, e.b, s.has_a_far, s.a_far, s.normal_a);
+        fill_curve_end(e.b, e.a, s.has_b_far, s.b_far, s.normal_b);
+    }
     if (scheme == SchemeKind::normal) {
-        s.normal_a = derived[e.a].normal;
-        s.normal_b = derived[e.b].normal;
+        if (!e.curve) {
+            // Both endpoints' normals in the edge's sector: any triangle on it.
+            const std::uint32_t t = e.slot[0] / 3, c = e.slot[0] % 3;
+            const bool a_first = tris[t].v[c] == e.a;
+            s.normal_a = corner_normal[3 * t + (a_first ? c : (c + 1) % 3)];
+            s.normal_b = corner_normal[3 * t + (a_first ? (c + 1) % 3 : c)];
+        }
         return subdivtrace::edge_point(scheme, s);
     }
     // As LevelTopology: interior when exactly two triangles share the edge;
@@ -230,8 +333,21 @@ Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
     return subdivtrace::edge_point(scheme, s);
 }
 
+void Patch::fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,
+                           Vec3& normal) const {
+    const VertexDerived& d = derived[v];
+    has_far = false;
+    normal = Vec3(0.0);
+    if (d.curve_count == 2 && (d.curve[0] == other || d.curve[1] == other)) {
+        has_far = true;
+        far = verts[d.curve[0] == other ? d.curve[1] : d.curve[0]].position;
+    } else if (d.curve_count == 1 && d.single_sector) {
+        // A dart: the curve ends inside one smooth sector, whose normal it takes.
+        normal = corner_normal[incident_slots[incident_offsets[v]]];
+    }
+}
+
 Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_triangles) {
-    build_edges();
     Patch next;
     next.level = level + 1;
     const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());

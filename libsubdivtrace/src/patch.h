@@ -36,15 +36,20 @@ struct PatchVertex {
     std::uint16_t true_ring = 0;
 };
 
-/// What finish() and subdivide() derive of a vertex at one level.
+/// What finish() and subdivide() derive of a vertex at one level. Its normals
+/// are per corner (Patch::corner_normal): one per sector between creases.
 struct VertexDerived {
-    Vec3 normal{0.0};  ///< Gouraud (angle-weighted) at the patch's level
     /// Largest distance of an edge point of the next level from its edge's
     /// midpoint, over the edges at this vertex (interpolating schemes' shells).
     double displacement = 0.0;
     bool has_ring = false;  ///< every incident triangle of the level is in the patch
     bool has_normal = false;
     bool has_displacement = false;
+    /// Curve (boundary or crease) edges at the vertex, and with exactly two,
+    /// their other ends in key order (scheme.h, VertexRing::curve).
+    std::uint8_t curve_count = 0;
+    bool single_sector = true;  ///< no crease splits its triangles
+    std::uint32_t curve[2] = {0, 0};
 };
 
 struct PatchTriangle {
@@ -58,6 +63,7 @@ struct PatchEdge {
     std::uint32_t b = 0;
     std::uint32_t point = 0;  ///< index of its edge point in the next level's patch
     bool valid = false;       ///< both endpoints have complete rings
+    bool curve = false;       ///< a boundary (one triangle) or a crease
     std::uint32_t slot_count = 0;  ///< triangles on the edge
     std::uint32_t slot[2] = {0, 0};  ///< the first two, as corner slots 3t + e
 };
@@ -68,6 +74,10 @@ public:
     std::vector<PatchVertex> verts;
     std::vector<PatchTriangle> tris;
     std::vector<VertexDerived> derived;  ///< per vertex, after finish()
+    /// Normal at each corner slot 3t + c, after finish() (where the corner's
+    /// vertex has_normal): the scheme's normal of the vertex in the sector of
+    /// triangle t.
+    std::vector<Vec3> corner_normal;
 
     /// Ordered (canonical) ring of vertex v: valid after finish() for
     /// vertices with has_ring.
@@ -88,9 +98,9 @@ public:
     std::vector<PatchEdge> edges;
     std::vector<std::uint32_t> tri_edges;
 
-    /// Rings, completeness, normals and (Loop) draw positions of vertices born
-    /// at this level.
-    void finish(SchemeKind scheme);
+    /// Rings, completeness, edges, curves, normals and (Loop) draw positions
+    /// of vertices born at this level.
+    void finish(const BaseTopology& topo, SchemeKind scheme);
 
     /// The triangles with a vertex at most one ring from `in_region`
     /// triangles' vertices (so those vertices' rings are whole).
@@ -104,9 +114,9 @@ public:
     /// A new patch holding only `src`'s triangles flagged in `keep`.
     static Patch copy_of(const Patch& src, const std::vector<bool>& keep);
 
-    /// The edge list (tri_edges) and per-vertex displacement of the next level,
-    /// then the next level's patch (every triangle split 1-to-4). Values whose
-    /// stencil is incomplete are marked invalid. Call after finish().
+    /// The per-vertex displacement of the next level, then the next level's
+    /// patch (every triangle split 1-to-4). Values whose stencil is
+    /// incomplete are marked invalid. Call after finish().
     /// With `with_triangles` false, only the next level's vertex positions
     /// (no triangles, no keys): what shells read.
     Patch subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_triangles = true);
@@ -118,8 +128,11 @@ public:
     std::size_t owned_bytes() const;
 
 private:
-    void build_edges();
+    void build_edges(const BaseTopology& topo);
+    void finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
     Vec3 edge_point(SchemeKind scheme, const PatchEdge& e) const;
+    void fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,
+                        Vec3& normal) const;
     void trim_to(const std::vector<bool>& keep);
 };
 

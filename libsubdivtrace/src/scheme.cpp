@@ -83,11 +83,12 @@ const char* scheme_name(SchemeKind kind) {
 
 Vec3 loop_vertex_point(const VertexRing& ring) {
     const std::size_t n = ring.nbrs.size();
-    if (!ring.regular || n < 2) return ring.center;  // corners stay
-    if (!ring.closed) {
-        // Boundary: the cubic B-spline rule along the boundary curve (1-6-1).
-        return (ring.center * 6.0 + ring.nbrs.front() + ring.nbrs.back()) * (1.0 / 8.0);
+    if (!ring.regular || n < 2 || ring.curve_count > 2) return ring.center;  // corners stay
+    if (ring.curve_count == 2) {
+        // Boundary or crease: the cubic B-spline rule along the curve (1-6-1).
+        return (ring.center * 6.0 + ring.curve[0] + ring.curve[1]) * (1.0 / 8.0);
     }
+    if (!ring.closed) return ring.center;
     const double inv_n = 1.0 / static_cast<double>(n);
     const double t = 3.0 + 2.0 * std::cos(2.0 * k_pi * inv_n);
     const double alpha = (40.0 - t * t) / 64.0;
@@ -98,8 +99,9 @@ Vec3 loop_vertex_point(const VertexRing& ring) {
 
 Vec3 loop_limit_point(const VertexRing& ring) {
     const std::size_t n = ring.nbrs.size();
-    if (!ring.regular || n < 2) return ring.center;
-    if (!ring.closed) return (ring.nbrs.front() + ring.center * 4.0 + ring.nbrs.back()) / 6.0;
+    if (!ring.regular || n < 2 || ring.curve_count > 2) return ring.center;
+    if (ring.curve_count == 2) return (ring.curve[0] + ring.center * 4.0 + ring.curve[1]) / 6.0;
+    if (!ring.closed) return ring.center;
     const double t = 3.0 + 2.0 * std::cos(2.0 * k_pi / static_cast<double>(n));
     const double alpha = (40.0 - t * t) / 64.0;
     const double chi = 8.0 * alpha / (static_cast<double>(n) * (8.0 * alpha + 3.0));
@@ -116,24 +118,43 @@ Vec3 normal_edge_point(const Vec3& a, const Vec3& b, const Vec3& na, const Vec3&
     return (a + b) * 0.5 + (glm::dot(d, nb) * nb - glm::dot(d, na) * na) * (1.0 / 8.0);
 }
 
+namespace {
+
+/// d projected on the line through the origin along `dir` (d itself when dir is zero).
+Vec3 project_on_line(const Vec3& d, const Vec3& dir) {
+    const double len2 = glm::dot(dir, dir);
+    if (!(len2 > 0.0) || !std::isfinite(len2)) return d;
+    return dir * (glm::dot(d, dir) / len2);
+}
+
+}  // namespace
+
+Vec3 normal_curve_edge_point(const EdgeStencil& s) {
+    // Written so that swapping a and b gives the same bits: two meshes that
+    // share a boundary may walk it in opposite directions.
+    const Vec3 d = s.b - s.a;
+    const Vec3 ta = s.has_a_far ? project_on_line(d, s.b - s.a_far)
+                                : d - glm::dot(d, s.normal_a) * s.normal_a;
+    const Vec3 tb = s.has_b_far ? project_on_line(d, s.b_far - s.a)
+                                : d - glm::dot(d, s.normal_b) * s.normal_b;
+    return (s.a + s.b) * 0.5 + (ta - tb) * (1.0 / 8.0);
+}
+
 Vec3 loop_edge_point(const EdgeStencil& s) {
-    if (!s.interior) return (s.a + s.b) * 0.5;
+    if (!s.interior || s.curve) return (s.a + s.b) * 0.5;
     return ((s.a + s.b) * 3.0 + s.c + s.d) * (1.0 / 8.0);
 }
 
 Vec3 butterfly_edge_point(const EdgeStencil& s) {
     const VertexRing* ra = s.ring_a;
     const VertexRing* rb = s.ring_b;
-    if (!s.interior) {
-        // Boundary (or non-manifold) edge: the 4-point curve rule, using each
-        // endpoint's other boundary neighbour; straight where there is none.
-        const bool a_ok = ra && ra->regular && !ra->closed && ra->nbrs.size() >= 2;
-        const bool b_ok = rb && rb->regular && !rb->closed && rb->nbrs.size() >= 2;
-        if (!a_ok || !b_ok) return (s.a + s.b) * 0.5;
-        const Vec3& a_far = s.index_b_in_a == 0 ? ra->nbrs.back() : ra->nbrs.front();
-        const Vec3& b_far = s.index_a_in_b == 0 ? rb->nbrs.back() : rb->nbrs.front();
-        return (s.a + s.b) * (9.0 / 16.0) + (a_far + b_far) * (-1.0 / 16.0);
+    if (s.curve) {
+        // Boundary or crease edge: the 4-point curve rule, using each
+        // endpoint's other curve neighbour; straight where there is none.
+        if (!s.has_a_far || !s.has_b_far) return (s.a + s.b) * 0.5;
+        return (s.a + s.b) * (9.0 / 16.0) + (s.a_far + s.b_far) * (-1.0 / 16.0);
     }
+    if (!s.interior) return (s.a + s.b) * 0.5;  // non-manifold
 
     const std::size_t va = valence(ra);
     const std::size_t vb = valence(rb);
@@ -172,7 +193,9 @@ Vec3 butterfly_edge_point(const EdgeStencil& s) {
 
 Vec3 edge_point(SchemeKind kind, const EdgeStencil& s) {
     switch (kind) {
-        case SchemeKind::normal: return normal_edge_point(s.a, s.b, s.normal_a, s.normal_b);
+        case SchemeKind::normal:
+            return s.curve ? normal_curve_edge_point(s)
+                           : normal_edge_point(s.a, s.b, s.normal_a, s.normal_b);
         case SchemeKind::loop: return loop_edge_point(s);
         case SchemeKind::butterfly: return butterfly_edge_point(s);
     }

@@ -36,7 +36,7 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
         const VertexDerived& d = p.derived[tri.v[c]];
         if (!d.has_normal || !v.has_draw) stencil_cut("a corner's normal or drawn position");
         rec.position[c] = v.position;
-        rec.normal[c] = d.normal;
+        rec.normal[c] = p.corner_normal[3 * t + c];
         rec.draw_position[c] = v.draw;
     }
 
@@ -145,7 +145,7 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch
                                    parent_patch->band([&](const NodeId& id) { return in_tile(id); }));
     } else {
         Patch p = base_patch(ctx.topo, root.face);
-        p.finish(ctx.scheme);
+        p.finish(ctx.topo, ctx.scheme);
         frontier_ = p.subdivide(ctx.topo, ctx.scheme);
     }
     build_level(1);
@@ -160,7 +160,7 @@ void Tile::build_level(int j) {
     // next level's edge points, which also become the next frontier.
     Patch& q = frontier_;
     q.trim([&](const NodeId& id) { return in_tile(id); });
-    q.finish(ctx_->scheme);
+    q.finish(ctx_->topo, ctx_->scheme);
     const int level = root_.level + j;
     Patch next;
     if (level < ctx_->max_level) next = q.subdivide(ctx_->topo, ctx_->scheme);
@@ -319,7 +319,7 @@ Shell CompactShell::expand(const Vec3& origin) const {
 
 RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     Patch whole = whole_base_patch(ctx.topo);
-    whole.finish(ctx.scheme);
+    whole.finish(ctx.topo, ctx.scheme);
     // The next level's positions only: the shells read its edge points (and
     // Loop's moved corners), never its triangles, which for a large mesh
     // would be most of the construction's peak memory.
@@ -337,6 +337,13 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
             if (!draw_.empty()) draw_[whole.tris[f].v[c]] = rec.draw_position[c];
         }
     }
+    // Where a crease splits a vertex's normals, the corners that differ
+    // from the one kept per vertex.
+    for (std::uint32_t f = 0; f < whole.tris.size(); ++f)
+        for (std::uint32_t c = 0; c < 3; ++c) {
+            const Vec3& n = whole.corner_normal[3 * f + c];
+            if (n != normal_[whole.tris[f].v[c]]) split_corners_.push_back({3 * f + c, n});
+        }
     ctx.records_built->fetch_add(shells_.size(), std::memory_order_relaxed);
 }
 
@@ -348,13 +355,20 @@ NodeRecord RootRecords::record(std::uint32_t face) const {
         rec.normal[c] = normal_[t[c]];
         rec.draw_position[c] = draw_.empty() ? rec.position[c] : draw_[t[c]];
     }
+    if (!split_corners_.empty()) {
+        const auto lo = std::lower_bound(
+            split_corners_.begin(), split_corners_.end(), 3 * face,
+            [](const SplitCorner& x, std::uint32_t slot) { return x.slot < slot; });
+        for (auto it = lo; it != split_corners_.end() && it->slot < 3 * face + 3; ++it)
+            rec.normal[it->slot - 3 * face] = it->normal;
+    }
     rec.shell = shells_[face].expand(rec.position[0]);
     return rec;
 }
 
 std::size_t RootRecords::owned_bytes() const {
     return (normal_.capacity() + draw_.capacity()) * sizeof(Vec3) +
-           shells_.capacity() * sizeof(CompactShell);
+           shells_.capacity() * sizeof(CompactShell) + split_corners_.capacity() * sizeof(SplitCorner);
 }
 
 }  // namespace subdivtrace::detail

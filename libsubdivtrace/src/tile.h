@@ -121,9 +121,16 @@ public:
 
 private:
     const Mesh* mesh_;
-    std::vector<Vec3> normal_;
-    std::vector<Vec3> draw_;  ///< Loop only
+    std::vector<Vec3> normal_;  ///< per base vertex
+    std::vector<Vec3> draw_;    ///< Loop only
     std::vector<CompactShell> shells_;
+    /// Corners (slot 3f + c, ascending) whose normal is not their vertex's,
+    /// on the far side of a crease.
+    struct SplitCorner {
+        std::uint32_t slot;
+        Vec3 normal;
+    };
+    std::vector<SplitCorner> split_corners_;
 };
 
 /// The node's ancestor at `level` (the node itself at its own level).

@@ -7,20 +7,57 @@
 #include <stdexcept>
 #include <string>
 
+#include "creases.h"
 #include "level_topology.h"
 
 namespace subdivtrace {
 
 namespace {
 
+/// What one level carries besides positions: per triangle its "down" flag
+/// and crease mask (bit e: edge e is a crease), and per corner its UV.
+struct LevelState {
+    std::vector<std::uint8_t> down;
+    std::vector<std::uint8_t> creases;  ///< empty: the mesh has none
+    std::vector<Vec2> corner_uvs;       ///< empty: the mesh has none
+};
+
+/// Given normals at the corners of this level (normal scheme): a base
+/// vertex's (index below the base count) in its base triangle, zero elsewhere.
+std::vector<Vec3> given_corner_normals(const Mesh& base, const std::vector<Triangle>& triangles,
+                                       int level) {
+    std::vector<Vec3> given(3 * triangles.size(), Vec3(0.0));
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const auto face = static_cast<std::uint32_t>(t >> (2 * level));
+        for (int c = 0; c < 3; ++c)
+            if (triangles[t][c] < base.positions.size())
+                given[3 * t + c] = detail::given_normal(base, face, triangles[t][c]);
+    }
+    return given;
+}
+
+/// The scheme's normals at each corner of one level.
+std::vector<Vec3> scheme_normals(const Mesh& base, SchemeKind scheme, const LevelTopology& topo,
+                                 const std::vector<Vec3>& positions,
+                                 const std::vector<Triangle>& triangles, int level,
+                                 bool given_every_level) {
+    const bool given = scheme == SchemeKind::normal && base.has_normals() &&
+                       (level == 0 || given_every_level);
+    return topo.sector_normals(positions, triangles,
+                               given ? given_corner_normals(base, triangles, level)
+                                     : std::vector<Vec3>{});
+}
+
 /// One level of subdivision: positions of old vertices, then edge points,
 /// then the topology rewritten (children 4t..4t+3, see uniform.h).
-void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
-                    std::vector<Triangle>& triangles, std::vector<std::uint8_t>& down,
-                    std::vector<Vec2>* corner_uvs, std::vector<Vec3>* corner_normals) {
-    const LevelTopology topo(positions, triangles);
+void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_every_level,
+                    std::vector<Vec3>& positions, std::vector<Triangle>& triangles,
+                    LevelState& state) {
+    const LevelTopology topo(positions, triangles, state.creases);
     const std::vector<Vec3> normals =
-        scheme == SchemeKind::normal ? gouraud_normals(positions, triangles) : std::vector<Vec3>{};
+        scheme == SchemeKind::normal
+            ? scheme_normals(base, scheme, topo, positions, triangles, level, given_every_level)
+            : std::vector<Vec3>{};
 
     // Positions of the old vertices (Loop moves them; interpolating schemes keep them).
     const std::size_t old_count = positions.size();
@@ -36,6 +73,20 @@ void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
         }
     }
 
+    // The curve beyond endpoint v of curve edge (v, other), as patch.cpp.
+    const auto curve_end = [&](std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,
+                               Vec3& normal) {
+        has_far = false;
+        normal = Vec3(0.0);
+        const int count = topo.curve_count(v);
+        if (count == 2 && (topo.curve_nbr(v, 0) == other || topo.curve_nbr(v, 1) == other)) {
+            has_far = true;
+            far = positions[topo.curve_nbr(v, topo.curve_nbr(v, 0) == other ? 1 : 0)];
+        } else if (count == 1 && topo.single_sector(v) && !normals.empty()) {
+            normal = normals[topo.first_slot(v)];  // a dart: its one sector's normal
+        }
+    };
+
     // Edge points.
     EdgeStencil stencil;
     for (std::uint32_t e = 0; e < topo.edge_count(); ++e) {
@@ -43,14 +94,20 @@ void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
         stencil.a = positions[edge.a];
         stencil.b = positions[edge.b];
         stencil.interior = edge.interior;
+        stencil.curve = edge.curve;
         if (edge.interior) {
             stencil.c = positions[edge.c];
             stencil.d = positions[edge.d];
         }
-        if (scheme == SchemeKind::normal) {
-            stencil.normal_a = normals[edge.a];
-            stencil.normal_b = normals[edge.b];
-        } else if (scheme == SchemeKind::butterfly) {
+        if (edge.curve) {
+            curve_end(edge.a, edge.b, stencil.has_a_far, stencil.a_far, stencil.normal_a);
+            curve_end(edge.b, edge.a, stencil.has_b_far, stencil.b_far, stencil.normal_b);
+        } else if (scheme == SchemeKind::normal) {
+            // Both endpoints' normals in the sector of the edge's first triangle.
+            stencil.normal_a = normals[3 * edge.face + edge.corner];
+            stencil.normal_b = normals[3 * edge.face + (edge.corner + 1) % 3];
+        }
+        if (scheme == SchemeKind::butterfly) {
             topo.fill_ring(edge.a, positions, ring_a);
             topo.fill_ring(edge.b, positions, ring_b);
             stencil.ring_a = &ring_a;
@@ -61,11 +118,12 @@ void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
         next[old_count + e] = edge_point(scheme, stencil);
     }
 
-    // Topology: each triangle becomes four.
+    // Topology: each triangle becomes four; a crease's halves stay creases.
     std::vector<Triangle> children;
     children.reserve(triangles.size() * 4);
-    std::vector<std::uint8_t> children_down;
-    children_down.reserve(triangles.size() * 4);
+    LevelState out;
+    out.down.reserve(triangles.size() * 4);
+    if (!state.creases.empty()) out.creases.reserve(triangles.size() * 4);
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const Triangle& tri = triangles[t];
         const std::uint32_t m_ab = static_cast<std::uint32_t>(old_count) + topo.face_edge(t, 0);
@@ -76,35 +134,38 @@ void subdivide_once(SchemeKind scheme, std::vector<Vec3>& positions,
         children.push_back({m_ca, m_bc, tri[2]});
         // The middle child is the same triangle either way; rotating it for
         // "down" parents keeps corner order equal to the hierarchy's grid order.
-        if (down[t]) children.push_back({m_ca, m_ab, m_bc});
+        if (state.down[t]) children.push_back({m_ca, m_ab, m_bc});
         else children.push_back({m_ab, m_bc, m_ca});
-        for (int c = 0; c < 3; ++c) children_down.push_back(down[t]);
-        children_down.push_back(!down[t]);
+        for (int c = 0; c < 3; ++c) out.down.push_back(state.down[t]);
+        out.down.push_back(!state.down[t]);
+        if (!state.creases.empty()) {
+            const std::uint8_t m = state.creases[t];
+            out.creases.push_back(m & 0b101);  // A-mAB on AB, mCA-A on CA
+            out.creases.push_back(m & 0b011);  // mAB-B on AB, B-mBC on BC
+            out.creases.push_back(m & 0b110);  // mBC-C on BC, C-mCA on CA
+            out.creases.push_back(0);
+        }
     }
 
-    // Per-corner attributes are linear over the base triangle: midpoints of corners.
-    auto split_corners = [&](auto& corners) {
-        using T = typename std::decay_t<decltype(corners)>::value_type;
-        std::vector<T> out;
-        out.reserve(corners.size() * 4);
+    // Per-corner UVs are linear over the base triangle: midpoints of corners.
+    if (!state.corner_uvs.empty()) {
+        const std::vector<Vec2>& corners = state.corner_uvs;
+        out.corner_uvs.reserve(corners.size() * 4);
         for (std::size_t t = 0; t < triangles.size(); ++t) {
-            const T a = corners[3 * t], b = corners[3 * t + 1], c = corners[3 * t + 2];
-            const T ab = (a + b) * 0.5, bc = (b + c) * 0.5, ca = (c + a) * 0.5;
-            for (const T& x : {a, ab, ca, ab, b, bc, ca, bc, c}) out.push_back(x);
-            if (down[t]) {
-                for (const T& x : {ca, ab, bc}) out.push_back(x);
+            const Vec2 a = corners[3 * t], b = corners[3 * t + 1], c = corners[3 * t + 2];
+            const Vec2 ab = (a + b) * 0.5, bc = (b + c) * 0.5, ca = (c + a) * 0.5;
+            for (const Vec2& x : {a, ab, ca, ab, b, bc, ca, bc, c}) out.corner_uvs.push_back(x);
+            if (state.down[t]) {
+                for (const Vec2& x : {ca, ab, bc}) out.corner_uvs.push_back(x);
             } else {
-                for (const T& x : {ab, bc, ca}) out.push_back(x);
+                for (const Vec2& x : {ab, bc, ca}) out.corner_uvs.push_back(x);
             }
         }
-        corners.swap(out);
-    };
-    if (corner_uvs && !corner_uvs->empty()) split_corners(*corner_uvs);
-    if (corner_normals && !corner_normals->empty()) split_corners(*corner_normals);
+    }
 
     positions.swap(next);
     triangles.swap(children);
-    down.swap(children_down);
+    state = std::move(out);
 }
 
 }  // namespace
@@ -122,19 +183,28 @@ SubdividedMesh subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels
                                     std::to_string(static_cast<long long>(triangle_count)) +
                                     " triangles (more than 1e9)");
     }
+    return detail::subdivide_uniform(mesh, scheme, levels, detail::k_given_normals_every_level);
+}
+
+SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels,
+                                         bool given_every_level) {
     SubdividedMesh out;
     out.levels = levels;
     out.positions = mesh.positions;
     out.triangles = mesh.triangles;
-    out.corner_uvs = mesh.corner_uvs;
-    out.corner_normals = mesh.corner_normals;
-    std::vector<std::uint8_t> down(out.triangles.size(), 0);
-    for (int k = 0; k < levels; ++k) {
-        subdivide_once(scheme, out.positions, out.triangles, down, &out.corner_uvs,
-                       &out.corner_normals);
-    }
-    for (Vec3& n : out.corner_normals) n = finish_normal(n);
-    out.vertex_normals = gouraud_normals(out.positions, out.triangles);
+    LevelState state;
+    state.down.assign(out.triangles.size(), 0);
+    state.creases = detail::crease_masks(mesh);
+    if (std::all_of(state.creases.begin(), state.creases.end(), [](std::uint8_t m) { return m == 0; }))
+        state.creases.clear();
+    state.corner_uvs = mesh.corner_uvs;
+    for (int k = 0; k < levels; ++k)
+        subdivide_once(mesh, scheme, k, given_every_level, out.positions, out.triangles, state);
+    out.corner_uvs = std::move(state.corner_uvs);
+    out.crease_masks = std::move(state.creases);
+    const LevelTopology topo(out.positions, out.triangles, out.crease_masks);
+    out.corner_normals =
+        scheme_normals(mesh, scheme, topo, out.positions, out.triangles, levels, given_every_level);
     out.base_face.resize(out.triangles.size());
     const std::size_t per_base = std::size_t{1} << (2 * levels);
     for (std::size_t t = 0; t < out.triangles.size(); ++t) {
@@ -145,7 +215,7 @@ SubdividedMesh subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels
 
 void push_to_limit(SubdividedMesh& sub, SchemeKind scheme) {
     if (scheme != SchemeKind::loop) return;
-    const LevelTopology topo(sub.positions, sub.triangles);
+    const LevelTopology topo(sub.positions, sub.triangles, sub.crease_masks);
     std::vector<Vec3> limit(sub.positions.size());
     VertexRing ring;
     for (std::uint32_t v = 0; v < sub.positions.size(); ++v) {
@@ -160,10 +230,7 @@ Mesh to_mesh(const SubdividedMesh& sub) {
     mesh.positions = sub.positions;
     mesh.triangles = sub.triangles;
     mesh.corner_uvs = sub.corner_uvs;
-    mesh.corner_normals.reserve(sub.triangles.size() * 3);
-    for (const Triangle& t : sub.triangles) {
-        for (std::uint32_t v : t) mesh.corner_normals.push_back(sub.vertex_normals[v]);
-    }
+    mesh.corner_normals = sub.corner_normals;
     return mesh;
 }
 

@@ -50,7 +50,8 @@ Worst compare_with_uniform(const Mesh& mesh, SchemeKind scheme, int level,
     Worst worst;
     for (std::size_t t = 0; t < uniform.triangles.size(); ++t) {
         const NodeRecord rec = hierarchy.node(node_of_uniform_triangle(t, level));
-        for (std::uint32_t v : uniform.triangles[t]) {
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = uniform.triangles[t][k];
             // The node's corners are the triangle's, possibly rotated.
             double best = 1e300;
             int best_c = 0;
@@ -60,7 +61,7 @@ Worst compare_with_uniform(const Mesh& mesh, SchemeKind scheme, int level,
             }
             worst.position = std::max(worst.position, best / scale);
             worst.normal = std::max(worst.normal,
-                                    glm::length(rec.normal[best_c] - uniform.vertex_normals[v]));
+                                    glm::length(rec.normal[best_c] - uniform.corner_normals[3 * t + k]));
         }
     }
     return worst;
@@ -141,7 +142,8 @@ TEST_CASE("Loop leaves are drawn at the limit points of uniform subdivision", "[
         double worst = 0.0;
         for (std::size_t t = 0; t < uniform.triangles.size(); ++t) {
             const NodeRecord rec = hierarchy.node(node_of_uniform_triangle(t, level));
-            for (std::uint32_t v : uniform.triangles[t]) {
+            for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = uniform.triangles[t][k];
                 double best = 1e300;
                 for (int c = 0; c < 3; ++c)
                     best = std::min(best, glm::length(rec.draw_position[c] - uniform.positions[v]));

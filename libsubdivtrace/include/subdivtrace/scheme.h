@@ -42,23 +42,43 @@ struct VertexRing {
     std::vector<Vec3> nbrs;
     bool closed = false;
     bool regular = true;
+    /// Curve edges at the vertex: boundary edges (one triangle) and creases
+    /// (docs/schemes.md, "Creases and boundaries"). With exactly two the vertex
+    /// lies on a curve and `curve` holds their other ends; with three or more
+    /// it is a corner and stays.
+    int curve_count = 0;
+    Vec3 curve[2] = {Vec3(0.0), Vec3(0.0)};
 };
 
 /// Loop's limit point of a vertex from its ring at any level (the limit mask
-/// chi = 8a / (n (8a + 3)) per neighbour; boundary (q_first + 4p + q_last)/6;
-/// corners stay). The same point whichever level's ring it is computed from.
+/// chi = 8a / (n (8a + 3)) per neighbour; on a curve (q_0 + 4p + q_1)/6 with
+/// the curve neighbours; corners stay). The same point whichever level's ring
+/// it is computed from.
 Vec3 loop_limit_point(const VertexRing& ring);
 
 /// Loop's vertex rule: interior (1-a)p + a/n sum(q), a = (40 - (3 + 2cos(2pi/n))^2)/64;
-/// boundary (q_first + 6p + q_last)/8; corners (irregular) stay.
+/// on a curve (boundary or crease) (q_0 + 6p + q_1)/8 with the curve
+/// neighbours; corners (irregular, or three or more curve edges) stay.
 Vec3 loop_vertex_point(const VertexRing& ring);
 
 /// Everything an edge rule may read about edge (a, b) at the coarser level.
 struct EdgeStencil {
     Vec3 a{0.0};
     Vec3 b{0.0};
-    Vec3 normal_a{0.0};  ///< Gouraud normals (normal scheme only)
+    /// Normal scheme only: the endpoints' normals in the sector that holds
+    /// the edge. On a curve edge, the normal at an endpoint that ends the
+    /// curve inside a smooth sector (a dart), else zero.
+    Vec3 normal_a{0.0};
     Vec3 normal_b{0.0};
+    /// A boundary or crease edge: its point depends only on the curve through
+    /// it, so both sides of a crease (or two meshes sharing a boundary) get
+    /// the same point. a_far / b_far: the curve's next vertex beyond a / b,
+    /// when that endpoint has exactly two curve edges.
+    bool curve = false;
+    bool has_a_far = false;
+    bool has_b_far = false;
+    Vec3 a_far{0.0};
+    Vec3 b_far{0.0};
     /// True if the edge has exactly two triangles; then c and d are their
     /// third vertices (c in the triangle that runs a -> b).
     bool interior = false;
@@ -79,6 +99,11 @@ Vec3 vertex_point(SchemeKind kind, const VertexRing& ring);
 
 /// The new point on edge (a, b) for each scheme.
 Vec3 normal_edge_point(const Vec3& a, const Vec3& b, const Vec3& na, const Vec3& nb);
+/// The normal scheme's curve rule: the midpoint of the cubic whose end
+/// tangents are the edge projected on the curve's tangent at each end (the
+/// direction between the end's two curve neighbours), or on the tangent plane
+/// of a dart's normal, or the chord at a corner.
+Vec3 normal_curve_edge_point(const EdgeStencil& s);
 Vec3 loop_edge_point(const EdgeStencil& s);
 Vec3 butterfly_edge_point(const EdgeStencil& s);
 

@@ -23,13 +23,14 @@ struct SubdividedMesh {
     int levels = 0;
     std::vector<Vec3> positions;
     std::vector<Triangle> triangles;
-    /// Per-vertex Gouraud (angle-weighted) normals of the final level; for
-    /// levels == 0 and a mesh with its own normals, see corner_normals.
-    std::vector<Vec3> vertex_normals;
-    /// The base mesh's per-corner normals carried to every level (empty if the
-    /// mesh had none). Only meaningful at level 0; deeper levels use
-    /// vertex_normals (the scheme recomputes normals, DESIGN section 3).
+    /// The scheme's normal at each corner (3t + c) of the final level: the
+    /// angle-weighted Gouraud normal of the vertex over its sector (the
+    /// triangles around it between creases), or for the normal scheme at a
+    /// base vertex the mesh's given normal (docs/schemes.md, "Given normals").
     std::vector<Vec3> corner_normals;
+    /// Per triangle, bit e set if its edge e (corner e to e + 1) is a crease
+    /// (a half of a base crease edge); empty if the mesh has none.
+    std::vector<std::uint8_t> crease_masks;
     /// Per-corner UVs, interpolated from the base triangle's corner UVs
     /// (empty if the mesh had none).
     std::vector<Vec2> corner_uvs;
@@ -49,7 +50,7 @@ constexpr int k_max_uniform_levels = 10;
 /// adaptive tracer draws at a leaf of the same level.
 void push_to_limit(SubdividedMesh& sub, SchemeKind scheme);
 
-/// Converts back to a plain Mesh (corner normals from vertex_normals).
+/// Converts back to a plain Mesh (with the scheme's corner normals).
 Mesh to_mesh(const SubdividedMesh& sub);
 
 }  // namespace subdivtrace

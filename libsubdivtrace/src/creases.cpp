@@ -1,0 +1,109 @@
+#include "creases.h"
+
+#include <algorithm>
+#include <numeric>
+#include <tuple>
+
+#include <glm/geometric.hpp>
+
+#include "subdivtrace/scheme.h"
+
+namespace subdivtrace::detail {
+
+Vec3 given_normal(const Mesh& mesh, std::uint32_t face, std::uint32_t v) {
+    if (!mesh.has_normals()) return Vec3(0.0);
+    const Triangle& t = mesh.triangles[face];
+    for (int c = 0; c < 3; ++c)
+        if (t[c] == v) return finish_normal(mesh.corner_normals[3 * face + c]);
+    return Vec3(0.0);
+}
+
+bool normals_split(const Vec3& n1, const Vec3& n2) {
+    const double l1 = glm::length(n1), l2 = glm::length(n2);
+    // A zero normal carries no direction: it splits nothing.
+    if (!(l1 > 0.0) || !(l2 > 0.0)) return false;
+    return glm::dot(n1, n2) < (1.0 - 1e-8) * l1 * l2;
+}
+
+std::vector<std::uint8_t> crease_masks(const Mesh& mesh) {
+    std::vector<std::uint8_t> masks(mesh.triangles.size(), 0);
+    if (!mesh.has_normals()) return masks;
+    struct Slot {
+        std::uint32_t lo, hi, face;
+        std::uint8_t edge;
+    };
+    std::vector<Slot> slots;
+    slots.reserve(3 * mesh.triangles.size());
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f)
+        for (std::uint8_t e = 0; e < 3; ++e) {
+            const std::uint32_t u = mesh.triangles[f][e], w = mesh.triangles[f][(e + 1) % 3];
+            slots.push_back({std::min(u, w), std::max(u, w), f, e});
+        }
+    std::sort(slots.begin(), slots.end(), [](const Slot& x, const Slot& y) {
+        return std::tie(x.lo, x.hi, x.face, x.edge) < std::tie(y.lo, y.hi, y.face, y.edge);
+    });
+    // The given normal at base vertex v in triangle f.
+    const auto normal_at = [&](std::uint32_t f, std::uint32_t v) {
+        const Triangle& t = mesh.triangles[f];
+        const int c = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+        return mesh.corner_normals[3 * f + c];
+    };
+    for (std::size_t i = 0; i < slots.size();) {
+        std::size_t j = i;
+        while (j < slots.size() && slots[j].lo == slots[i].lo && slots[j].hi == slots[i].hi) ++j;
+        if (j - i == 2) {
+            const Slot& x = slots[i];
+            const Slot& y = slots[i + 1];
+            if (normals_split(normal_at(x.face, x.lo), normal_at(y.face, x.lo)) ||
+                normals_split(normal_at(x.face, x.hi), normal_at(y.face, x.hi))) {
+                masks[x.face] |= static_cast<std::uint8_t>(1u << x.edge);
+                masks[y.face] |= static_cast<std::uint8_t>(1u << y.edge);
+            }
+        }
+        i = j;
+    }
+    return masks;
+}
+
+std::uint32_t label_sectors(const std::vector<FanCorner>& corners, std::vector<std::uint32_t>& labels) {
+    const std::size_t n = corners.size();
+    std::vector<std::uint32_t> parent(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+    const auto find = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    // Each edge at the centre, named by its other end, with the corners on it.
+    struct Side {
+        std::uint32_t nbr;
+        std::uint32_t corner;
+        bool crease;
+    };
+    std::vector<Side> sides;
+    sides.reserve(2 * n);
+    for (std::uint32_t k = 0; k < n; ++k) {
+        sides.push_back({corners[k].next, k, corners[k].crease_next});
+        sides.push_back({corners[k].prev, k, corners[k].crease_prev});
+    }
+    std::sort(sides.begin(), sides.end(),
+              [](const Side& x, const Side& y) { return std::tie(x.nbr, x.corner) < std::tie(y.nbr, y.corner); });
+    for (std::size_t i = 0; i < sides.size();) {
+        std::size_t j = i;
+        bool crease = false;
+        while (j < sides.size() && sides[j].nbr == sides[i].nbr) crease = crease || sides[j++].crease;
+        if (!crease)
+            for (std::size_t k = i + 1; k < j; ++k) parent[find(sides[k].corner)] = find(sides[i].corner);
+        i = j;
+    }
+    labels.assign(n, UINT32_MAX);
+    std::vector<std::uint32_t> root_label(n, UINT32_MAX);
+    std::uint32_t count = 0;
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const std::uint32_t r = find(k);
+        if (root_label[r] == UINT32_MAX) root_label[r] = count++;
+        labels[k] = root_label[r];
+    }
+    return count;
+}
+
+}  // namespace subdivtrace::detail
