@@ -90,7 +90,7 @@ std::uint32_t label_sectors(const std::vector<FanCorner>& corners, std::vector<s
     for (std::size_t i = 0; i < sides.size();) {
         std::size_t j = i;
         bool crease = false;
-        while (j < sides.size() && sides[j].nbr == sides[i].nbr) crease = crease || sides[j++].crease;
+        for (; j < sides.size() && sides[j].nbr == sides[i].nbr; ++j) crease = crease || sides[j].crease;
         if (!crease)
             for (std::size_t k = i + 1; k < j; ++k) parent[find(sides[k].corner)] = find(sides[i].corner);
         i = j;

@@ -24,7 +24,7 @@ Vec3 given_normal(const Mesh& mesh, std::uint32_t face, std::uint32_t v);
 /// Whether base vertices keep their given normals at every level of the
 /// normal scheme (true), or only at level 0 with Gouraud normals from level 1
 /// on. docs/schemes.md, "Given normals", has the measurement behind the choice.
-constexpr bool k_given_normals_every_level = true;
+constexpr bool k_given_normals_every_level = false;
 
 /// subdivide_uniform with either rule for given normals (the measurement in
 /// docs/schemes.md compares them; the library uses k_given_normals_every_level).

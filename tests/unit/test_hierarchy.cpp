@@ -75,6 +75,10 @@ TEST_CASE("adaptive hierarchy equals uniform subdivision", "[hierarchy]") {
         {"torus", testmesh::torus(8, 6, 1.0, 0.35)},
         {"irregular", testmesh::irregular_closed(7)},
         {"open grid", testmesh::open_grid(4)},
+        {"faceted cube (creases)", testmesh::faceted_cube()},
+        {"cylinder, split rim normals", testmesh::split_normal_cylinder(7, 1.0, 0.6)},
+        {"icosphere, given normals", testmesh::icosphere_with_normals(1)},
+        {"half sphere (boundary)", testmesh::octasphere_half(1, true)},
     };
     Worst overall;
     for (const auto& [name, mesh] : meshes) {

@@ -309,6 +309,101 @@ Mesh zero_area_mesh() {
     return m;
 }
 
+Mesh faceted_cube() {
+    Mesh m;
+    for (int k = 0; k < 8; ++k) m.positions.push_back(Vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1));
+    // Each face as two triangles, counter-clockwise from outside, with its normal.
+    const struct {
+        std::uint32_t q[4];
+        Vec3 normal;
+    } faces[6] = {
+        {{0, 2, 3, 1}, Vec3(0, 0, -1)}, {{4, 5, 7, 6}, Vec3(0, 0, 1)},
+        {{0, 1, 5, 4}, Vec3(0, -1, 0)}, {{2, 6, 7, 3}, Vec3(0, 1, 0)},
+        {{0, 4, 6, 2}, Vec3(-1, 0, 0)}, {{1, 3, 7, 5}, Vec3(1, 0, 0)},
+    };
+    for (const auto& f : faces) {
+        for (const Triangle& t : {Triangle{f.q[0], f.q[1], f.q[2]}, Triangle{f.q[0], f.q[2], f.q[3]}}) {
+            m.triangles.push_back(t);
+            for (int c = 0; c < 3; ++c) m.corner_normals.push_back(f.normal);
+        }
+    }
+    return m;
+}
+
+Mesh split_normal_cylinder(int n, double r, double h) {
+    Mesh m;
+    // Rim vertices: bottom 0..n-1, top n..2n-1; cap centres 2n (bottom), 2n+1 (top).
+    for (int z = 0; z < 2; ++z)
+        for (int i = 0; i < n; ++i) {
+            const double a = 2.0 * k_pi * i / n;
+            m.positions.push_back(Vec3(r * std::cos(a), r * std::sin(a), z ? h : -h));
+        }
+    m.positions.push_back(Vec3(0, 0, -h));
+    m.positions.push_back(Vec3(0, 0, h));
+    const auto radial = [&](std::uint32_t v) {
+        const Vec3& p = m.positions[v];
+        return glm::normalize(Vec3(p.x, p.y, 0.0));
+    };
+    const auto n32 = static_cast<std::uint32_t>(n);
+    for (std::uint32_t i = 0; i < n32; ++i) {
+        const std::uint32_t j = (i + 1) % n32;
+        for (const Triangle& t : {Triangle{i, j, n32 + j}, Triangle{i, n32 + j, n32 + i}}) {
+            m.triangles.push_back(t);
+            for (std::uint32_t v : t) m.corner_normals.push_back(radial(v));
+        }
+        m.triangles.push_back({2 * n32, j, i});
+        for (int c = 0; c < 3; ++c) m.corner_normals.push_back(Vec3(0, 0, -1));
+        m.triangles.push_back({2 * n32 + 1, n32 + i, n32 + j});
+        for (int c = 0; c < 3; ++c) m.corner_normals.push_back(Vec3(0, 0, 1));
+    }
+    return m;
+}
+
+Mesh icosphere_with_normals(int subdivisions) {
+    Mesh m = icosphere(subdivisions);
+    for (const Triangle& t : m.triangles)
+        for (std::uint32_t v : t) m.corner_normals.push_back(glm::normalize(m.positions[v]));
+    return m;
+}
+
+Mesh octasphere_half(int subdivisions, bool upper) {
+    Mesh m;
+    m.positions = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+    m.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    for (int level = 0; level < subdivisions; ++level) {
+        std::map<std::uint64_t, std::uint32_t> mid;
+        auto midpoint = [&](std::uint32_t u, std::uint32_t w) {
+            const auto [it, inserted] =
+                mid.emplace(edge_key(u, w), static_cast<std::uint32_t>(m.positions.size()));
+            if (inserted) m.positions.push_back(glm::normalize(m.positions[u] + m.positions[w]));
+            return it->second;
+        };
+        std::vector<Triangle> next;
+        for (const Triangle& t : m.triangles) {
+            const std::uint32_t ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+            next.insert(next.end(), {{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {ab, bc, ca}});
+        }
+        m.triangles.swap(next);
+    }
+    // Keep one half; renumber its vertices in order of first use.
+    Mesh half;
+    std::vector<std::uint32_t> remap(m.positions.size(), UINT32_MAX);
+    for (const Triangle& t : m.triangles) {
+        const double z = m.positions[t[0]].z + m.positions[t[1]].z + m.positions[t[2]].z;
+        if ((z > 0.0) != upper) continue;
+        Triangle out;
+        for (int c = 0; c < 3; ++c) {
+            if (remap[t[c]] == UINT32_MAX) {
+                remap[t[c]] = static_cast<std::uint32_t>(half.positions.size());
+                half.positions.push_back(m.positions[t[c]]);
+            }
+            out[c] = remap[t[c]];
+        }
+        half.triangles.push_back(out);
+    }
+    return half;
+}
+
 Mesh high_valence_fan(int n) {
     Mesh m;
     for (int i = 0; i < n; ++i) {

@@ -67,6 +67,24 @@ Mesh folded();
 /// Faces are counter-clockwise seen from outside, in the same order in both.
 MeshArrays patch_split_sphere(int n, bool shared);
 
+/// Axis-aligned cube [-1, 1]^3, 12 triangles, with faceted normals: every
+/// corner carries its face's normal, so all 18 edges are creases (as a mesh2
+/// cube written with one normal per face).
+Mesh faceted_cube();
+
+/// Closed cylinder around the z axis (radius r, z in [-h, h]), `n` sides,
+/// caps fanned around a centre vertex. Side corners carry the exact radial
+/// normal, cap corners the axial one: the two rims are creases.
+Mesh split_normal_cylinder(int n, double r, double h);
+
+/// icosphere(subdivisions) with the exact sphere normal at every corner.
+Mesh icosphere_with_normals(int subdivisions);
+
+/// The unit sphere made from an octahedron split 1-to-4 `subdivisions` times
+/// (projected), cut at the equator into its upper (z >= 0) or lower half:
+/// two open meshes whose boundaries are the same polyline in z = 0.
+Mesh octasphere_half(int subdivisions, bool upper);
+
 /// p * scale + offset for every position (normals and UVs unchanged).
 Mesh offset_mesh(Mesh mesh, const Vec3& offset, double scale);
 

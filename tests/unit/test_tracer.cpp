@@ -35,6 +35,8 @@ std::vector<NamedMesh> closed_corpus() {
         {"irregular 3..12", testmesh::irregular_closed(7), Vec3(0.0)},
         {"high valence 100", testmesh::high_valence_fan(100), Vec3(0.0)},
         {"sliver 1e6", testmesh::sliver_mesh(), Vec3(0.0)},
+        {"faceted cube (creases)", testmesh::faceted_cube(), Vec3(0.1, 0.2, -0.3)},
+        {"cylinder, split rim normals", testmesh::split_normal_cylinder(9, 1.0, 0.5), Vec3(0.0, 0.1, 0.2)},
         // Written like the Utah teapot (seam vertices once per patch), welded on load.
         {"patch-split sphere, welded",
          mesh_from_arrays(testmesh::patch_split_sphere(3, false), "patch-split sphere"),
