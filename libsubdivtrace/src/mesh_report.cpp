@@ -1,6 +1,8 @@
 // Mesh analysis for `subdivtrace info` (mesh_report.h).
 #include "subdivtrace/mesh_report.h"
 
+#include "creases.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -115,6 +117,8 @@ MeshReport analyze_mesh(const Mesh& mesh) {
     r.vertices = nv;
     r.faces = mesh.triangles.size();
     r.has_normals = mesh.has_normals();
+    for (std::uint8_t m : detail::crease_masks(mesh)) r.crease_edges += (m & 1u) + (m >> 1 & 1u) + (m >> 2 & 1u);
+    r.crease_edges /= 2;  // counted from both triangles
     r.has_uvs = mesh.has_uvs();
     r.bounds = mesh_bounds(mesh);
 
@@ -217,6 +221,18 @@ MeshReport analyze_mesh(const Mesh& mesh) {
         if (fans > 1) ++r.singular_vertices;
     }
     return r;
+}
+
+std::string given_normals_warning(const Mesh& mesh, SchemeKind scheme, const std::string& source) {
+    if (!mesh.has_normals() || scheme == SchemeKind::normal) return "";
+    std::size_t creases = 0;
+    for (std::uint8_t m : detail::crease_masks(mesh)) creases += (m & 1u) + (m >> 1 & 1u) + (m >> 2 & 1u);
+    std::string w = source + ": the " + scheme_name(scheme) +
+                    " scheme computes its own normals, so the mesh's normals do not change the surface";
+    if (creases > 0)
+        w += " (except that where they are split they mark " + std::to_string(creases / 2) +
+             " crease edges)";
+    return w + "; the normal scheme uses them";
 }
 
 }  // namespace subdivtrace

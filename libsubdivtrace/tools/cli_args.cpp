@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "subdivtrace/mesh_io.h"
+#include "subdivtrace/mesh_report.h"
 #include "subdivtrace/uniform.h"
 
 namespace subdivtrace::cli {
@@ -134,6 +135,8 @@ void print_warnings(const std::vector<std::string>& warnings) {
 
 SubdividedMesh subdivide_or_explain(const Mesh& mesh, const std::string& path, SchemeKind scheme,
                                     int levels, bool limit) {
+    const std::string note = given_normals_warning(mesh, scheme, path);
+    if (!note.empty() && levels > 0) print_warnings({note});
     try {
         SubdividedMesh sub = subdivide_uniform(mesh, scheme, levels);
         if (limit) push_to_limit(sub, scheme);

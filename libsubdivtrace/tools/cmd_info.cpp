@@ -51,6 +51,7 @@ int run_info(const Args& args) {
     std::printf("degenerate triangles:  %zu\n", r.degenerate_faces);
     std::printf("duplicate triangles:   %zu\n", r.duplicate_faces);
     std::printf("normals:               %s\n", r.has_normals ? "per corner" : "none");
+    std::printf("crease edges:          %zu\n", r.crease_edges);
     std::printf("uvs:                   %s\n", r.has_uvs ? "per corner" : "none");
     std::printf("valence:               %d..%d\n", r.min_valence, r.max_valence);
     std::printf("valence histogram:    ");

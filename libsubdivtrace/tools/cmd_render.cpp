@@ -16,6 +16,7 @@
 #include "render/rss.h"
 #include "render/uniform_scene.h"
 #include "render/view_args.h"
+#include "subdivtrace/mesh_report.h"
 #include "subdivtrace/mesh_io.h"
 #include "subdivtrace/tracer.h"
 #include "subdivtrace/uniform.h"
@@ -135,7 +136,10 @@ int run_render_or_stats(const Args& args, bool write_png) {
     std::vector<std::string> warnings;
     const auto build_start = std::chrono::steady_clock::now();
     Mesh mesh = read_mesh(a.mesh, &warnings, a.weld);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    // A uniform render's subdivide_or_explain says it itself.
+    if (a.uniform < 0) warnings.push_back(given_normals_warning(mesh, a.scheme, a.mesh));
+    for (const std::string& w : warnings)
+        if (!w.empty()) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
     RenderOptions ro = render_options(a.view);
     ro.color_by = a.color_by;

@@ -418,3 +418,22 @@ TEST_CASE("cli: render --color-by face counts the base faces seen", "[cli][rende
     CHECK(bad.err.find("--color-by must be level or face") != std::string::npos);
     CHECK_FALSE(fs::exists(box.path("x.png")));
 }
+
+TEST_CASE("cli: info counts creases, and Loop/Butterfly warn that given normals do not shape them",
+          "[cli][creases]") {
+    Sandbox box;
+    const std::string cube = k_data + "/faceted_cube.obj";
+    const Result info = box.run({"info", cube});
+    REQUIRE(info.code == 0);
+    CHECK(info.out.find("crease edges:          12\n") != std::string::npos);
+    for (const char* scheme : {"loop", "butterfly"}) {
+        const Result r = box.run({"subdivide", cube, "-o", box.path("out.obj"), "--levels", "1", "--scheme", scheme});
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        CHECK(r.err.find("warning: " + cube + ": the " + scheme + " scheme computes its own normals") == 0);
+        CHECK(r.err.find("12 crease edges") != std::string::npos);
+    }
+    const Result normal = box.run({"subdivide", cube, "-o", box.path("out.obj"), "--levels", "1"});
+    REQUIRE(normal.code == 0);
+    CHECK(normal.err.find("warning") == std::string::npos);
+}

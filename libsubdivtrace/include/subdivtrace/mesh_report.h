@@ -6,7 +6,10 @@
 #include <cstddef>
 #include <vector>
 
+#include <string>
+
 #include "subdivtrace/mesh.h"
+#include "subdivtrace/scheme.h"
 
 namespace subdivtrace {
 
@@ -40,10 +43,18 @@ struct MeshReport {
     bool closed = false;
     bool has_normals = false;
     bool has_uvs = false;
+    /// Edges whose two triangles give different normals at an endpoint: the
+    /// schemes keep them sharp (docs/schemes.md, "Creases and boundaries").
+    std::size_t crease_edges = 0;
 };
 
 /// Analyses `mesh` (which must satisfy validate_mesh). Linear-logarithmic time.
 MeshReport analyze_mesh(const Mesh& mesh);
+
+/// The warning a user needs when `scheme` will not use the mesh's normals as
+/// normals (Loop and Butterfly read positions only; split normals still mark
+/// creases), naming `source`; empty when there is nothing to say.
+std::string given_normals_warning(const Mesh& mesh, SchemeKind scheme, const std::string& source);
 
 /// Exact test: true if a, b, c are collinear (the triangle has zero area).
 /// Uses exact orientation signs of the three axis projections, so it neither

@@ -33,6 +33,7 @@
 
 // libsubdivtrace first: its headers (GLM) must not see POV-Ray's DBL/SNGL
 // macros or the X, Y, Z enumerators and global min/max of namespace pov.
+#include "subdivtrace/mesh_report.h"
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
 #include "subdivtrace/tracer.h"
@@ -374,6 +375,9 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 		if (!kind)
 			return "unknown subdivision scheme '" + input.Scheme + "'";
 		options.scheme = *kind;
+		const std::string normals_note = subdivtrace::given_normals_warning(mesh, *kind, input.File.empty() ? "mesh2" : input.File);
+		if (!normals_note.empty())
+			warnings.push_back(normals_note);
 		options.tolerance = input.Tolerance;
 		options.max_level = input.MaxLevel;
 		options.cache_mb = size_t(input.CacheMB);
