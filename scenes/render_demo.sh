@@ -47,4 +47,5 @@ render() {  # scene.pov output-stem
 render icosahedron_side_by_side.pov icosahedron_side_by_side
 render subdivision_demo.pov subdivision_demo
 render textured_mesh2.pov textured_mesh2
+render creased_mesh2.pov creased_mesh2
 echo "demo: images in $out_dir"

@@ -936,6 +936,79 @@ STOCK_POVRAY = "/usr/bin/povray"
 STOCK_INCLUDE = "/usr/share/povray-3.7/include"
 
 
+def faceted_cube_body():
+    """A mesh2 cube with one normal per face (normal_indices): its 12 edges are creases."""
+    verts = [(x, y, z) for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)]
+    quads = [((0, 2, 3, 1), 0), ((4, 5, 7, 6), 1), ((0, 1, 5, 4), 2),
+             ((2, 6, 7, 3), 3), ((0, 4, 6, 2), 4), ((1, 3, 7, 5), 5)]
+    normals = [(0, 0, -1), (0, 0, 1), (0, -1, 0), (0, 1, 0), (-1, 0, 0), (1, 0, 0)]
+    faces, nidx = [], []
+    for (a, b, c, d), n in quads:
+        faces += [(a, b, c), (a, c, d)]
+        nidx += [(n, n, n), (n, n, n)]
+    return "\n    ".join([
+        "vertex_vectors { 8, %s }" % ", ".join(fmt_vec(v) for v in verts),
+        "normal_vectors { 6, %s }" % ", ".join(fmt_vec(v) for v in normals),
+        "face_indices { 12, %s }" % ", ".join("<%d, %d, %d>" % f for f in faces),
+        "normal_indices { 12, %s }" % ", ".join("<%d, %d, %d>" % f for f in nidx)])
+
+
+def test_faceted_cube_equals_mesh2(ctx):
+    """A cube written with one normal per face stays a cube at every level:
+    refined to level 4 (normal scheme and Loop, whose crease rules keep it
+    flat), the same picture as the mesh2 cube, silhouette and shading."""
+    mods = "texture { pigment { rgb <0.9, 0.6, 0.3> } finish { specular 0.3 } } rotate <25, 35, 0>"
+    native = SCENE_HEADER + "mesh2 { %s %s }\n" % (faceted_cube_body(), mods)
+    _, _, a, _ = ctx.render("native_cube", native)
+    for scheme in ("normal", "loop"):
+        subdiv = SCENE_HEADER + ("subdivision_mesh { mesh2 { %s } scheme %s max_level 4 tolerance 0.25 %s }\n"
+                                 % (faceted_cube_body(), scheme, mods))
+        rc, err, b, _ = ctx.render("subdiv_cube_" + scheme, subdiv)
+        level = deepest_level(err)
+        print("  %s: deepest level %s" % (scheme, level))
+        if level is None or level < 2:
+            raise Failure("%s: the cube was not refined (deepest level %s)" % (scheme, level))
+        assert_close("faceted cube, %s level 4 vs mesh2" % scheme, a, b, SAME_FRACTION, SAME_MEAN)
+
+
+def test_creased_textured_cylinder(ctx):
+    """scenes/creased_mesh2.pov's mesh (creased rims, texture_list blended on
+    the sides, one texture per cap face): at max_level 0 the same picture as
+    mesh2; refined per ray, it renders (the unit tests check its geometry:
+    sharp rims, round sides, flat caps)."""
+    with open(os.path.join(ctx.source_dir, "scenes", "creased_mesh2.pov")) as f:
+        text = f.read()
+    start = text.index("#declare Shine")
+    end = text.index("object { Creased")
+    declared = SCENE_HEADER + text[start:end]
+    mods = "rotate <-25, 10, 0> scale 1.2"
+    native = declared + "object { Creased %s }\n" % mods
+    subdiv = declared + "subdivision_mesh { Creased max_level 0 %s }\n" % mods
+    _, _, a, _ = ctx.render("native_cylinder", native)
+    _, _, b, _ = ctx.render("subdiv_cylinder", subdiv)
+    assert_close("creased cylinder: level 0 vs mesh2", a, b, SAME_FRACTION, SAME_MEAN)
+    refined = declared + "subdivision_mesh { Creased max_level 8 tolerance 1 %s }\n" % mods
+    rc, err, c, _ = ctx.render("refined_cylinder", refined)
+    level = deepest_level(err)
+    print("  refined: deepest level %s" % level)
+    if level is None or level < 3:
+        raise Failure("the cylinder was not refined (deepest level %s)" % level)
+
+
+def test_loop_warns_given_normals(ctx):
+    """Loop with normal_vectors: POV-Ray warns that the normals do not change
+    the surface (and counts the creases they mark); the normal scheme does not."""
+    for scheme, expect in (("loop", True), ("normal", False)):
+        scene = SCENE_HEADER + ("subdivision_mesh { mesh2 { %s } scheme %s max_level 2 pigment { rgb 1 } "
+                                "rotate <25, 35, 0> }\n" % (faceted_cube_body(), scheme))
+        rc, err, _, _ = ctx.render("warn_" + scheme, scene)
+        joined = err.replace("\n", "")  # POV-Ray wraps messages at 80 columns
+        found = "computes its own normals" in joined and "12 crease edges" in joined
+        print("  %s: warning %s" % (scheme, "printed" if found else "absent"))
+        if found != expect:
+            raise Failure("%s: expected the warning %s\n%s" % (scheme, "printed" if expect else "absent", tail(err)))
+
+
 def run_quiet(cmd, cwd):
     return subprocess.run(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                           timeout=120).returncode
@@ -1016,6 +1089,9 @@ TESTS = {
     "shadow_acne_nonconvex": test_shadow_acne_nonconvex,
     "weld_patch_split_sphere": test_weld_patch_split_sphere,
     "weld_uv_seams_equal_mesh2": test_weld_uv_seams_equal_mesh2,
+    "faceted_cube_equals_mesh2": test_faceted_cube_equals_mesh2,
+    "creased_textured_cylinder": test_creased_textured_cylinder,
+    "loop_warns_given_normals": test_loop_warns_given_normals,
 }
 for _name in BAD_CASES:
     TESTS["bad_" + _name] = (lambda n: (lambda ctx: bad_case_test(ctx, n)))(_name)
