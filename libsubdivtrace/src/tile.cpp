@@ -13,8 +13,9 @@ namespace {
 
 /// Descendants of an interpolating scheme's node stay within this many times
 /// the largest edge-point displacement of its neighbourhood from the flat
-/// triangle (a geometric series of ratio <= 1/2 sums to 2x; the prototype saw
-/// ratios 1/2.6 .. 1/3.4). tests/unit/test_shells.cpp holds it to containment.
+/// triangle (a geometric series of ratio <= 1/2 sums to 2x; docs/tracer.md
+/// section 2 has the measured ratios). tests/unit/test_shells.cpp holds it
+/// to containment.
 constexpr double k_displacement_factor = 2.0;
 /// Relative slack for rounding in the stencils, times the node's extent.
 constexpr double k_rounding_slack = 1e-9;

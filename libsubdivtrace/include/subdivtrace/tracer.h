@@ -74,7 +74,10 @@ struct Ray {
 struct Hit {
     double t = 0.0;            ///< ray parameter of the hit
     Vec3 point{0.0};
-    Vec3 normal{0.0};          ///< smooth (interpolated Gouraud) unit normal
+    /// Smooth unit normal: the leaf's corner normals interpolated (the scheme's
+    /// normals per sector between creases; the mesh's own at level 0 of the
+    /// normal scheme).
+    Vec3 normal{0.0};
     Vec3 geometric_normal{0.0};///< unit normal of the leaf triangle drawn
     /// From the base mesh's per-corner UVs; without UVs, the barycentric
     /// weights of the base triangle's corners 1 and 2 at the hit.
