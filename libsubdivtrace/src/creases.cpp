@@ -106,4 +106,39 @@ std::uint32_t label_sectors(const std::vector<FanCorner>& corners, std::vector<s
     return count;
 }
 
+void restrict_to_sector(VertexRing& ring, const std::uint8_t* curve, std::size_t& index) {
+    const std::size_t n = ring.nbrs.size();
+    if (!ring.regular || n == 0 || index >= n) return;
+    // Walk back and forward from `index` to the nearest curve edges (an open
+    // fan's ends are boundary edges, curve edges too).
+    std::size_t first = index, last = index;
+    std::size_t steps = 0;
+    while (!curve[first] && steps < n) {
+        if (first == 0) {
+            if (!ring.closed) break;
+            first = n;
+        }
+        --first;
+        ++steps;
+    }
+    steps = 0;
+    while (!curve[last] && steps < n) {
+        if (last + 1 == n) {
+            if (!ring.closed) break;
+            last = static_cast<std::size_t>(-1);
+        }
+        ++last;
+        ++steps;
+    }
+    if (!curve[first] && !curve[last]) return;  // one sector after all
+    std::vector<Vec3> sector;
+    for (std::size_t k = first;; k = (k + 1) % n) {
+        sector.push_back(ring.nbrs[k]);
+        if (k == last) break;
+    }
+    index = (index + n - first) % n;
+    ring.nbrs.swap(sector);
+    ring.closed = false;
+}
+
 }  // namespace subdivtrace::detail

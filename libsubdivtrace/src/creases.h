@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "subdivtrace/mesh.h"
+#include "subdivtrace/scheme.h"
 #include "subdivtrace/uniform.h"
 
 namespace subdivtrace::detail {
@@ -48,5 +49,12 @@ struct FanCorner {
     bool crease_next = false;
 };
 std::uint32_t label_sectors(const std::vector<FanCorner>& corners, std::vector<std::uint32_t>& labels);
+
+/// Butterfly's view of a vertex that creases split into sectors: the sector
+/// of `ring` that holds neighbour `index`, as an open fan from the curve edge
+/// before it to the curve edge after it (a crease is a boundary to each side,
+/// as Zorin et al. treat it); `index` is renumbered within it. `curve[k]`
+/// flags neighbour k's edge as a curve edge. Irregular rings stay as they are.
+void restrict_to_sector(VertexRing& ring, const std::uint8_t* curve, std::size_t& index);
 
 }  // namespace subdivtrace::detail

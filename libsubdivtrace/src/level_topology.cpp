@@ -115,6 +115,18 @@ LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
         }
         detail::order_ring(pairs, ordered, eq);
         ring_nbrs_.insert(ring_nbrs_.end(), ordered.nbrs.begin(), ordered.nbrs.end());
+        for (std::uint32_t w : ordered.nbrs) {
+            bool curve = false;
+            if (!single_sector_[v]) {
+                for (std::size_t k = inc_offsets[v]; k < inc_offsets[v + 1]; ++k) {
+                    const std::uint32_t slot = inc_slots_[k], c = slot % 3;
+                    const Triangle& t = triangles[slot / 3];
+                    if (t[(c + 1) % 3] == w) curve = curve || edges_[face_edges_[slot]].curve;
+                    if (t[(c + 2) % 3] == w) curve = curve || edges_[face_edges_[slot - c + (c + 2) % 3]].curve;
+                }
+            }
+            ring_curve_.push_back(curve ? 1 : 0);
+        }
         ring_offsets_[v + 1] = ring_nbrs_.size();
         ring_closed_[v] = ordered.closed;
         ring_regular_[v] = ordered.regular;

@@ -47,6 +47,8 @@ public:
                                      const std::vector<Vec3>& given = {}) const;
     /// Whether v's triangles form one sector (no crease splits them).
     bool single_sector(std::uint32_t v) const { return single_sector_[v] != 0; }
+    /// Per neighbour of v's ring (fill_ring's order): its edge is a curve edge.
+    const std::uint8_t* ring_curve(std::uint32_t v) const { return &ring_curve_[ring_offsets_[v]]; }
     /// A corner slot 3t + c of v.
     std::uint32_t first_slot(std::uint32_t v) const { return inc_slots_[inc_offsets_[v]]; }
 
@@ -65,6 +67,7 @@ private:
     std::vector<std::uint32_t> ring_nbrs_;
     std::vector<std::uint8_t> ring_closed_;
     std::vector<std::uint8_t> ring_regular_;
+    std::vector<std::uint8_t> ring_curve_;
     std::vector<std::uint8_t> curve_count_;
     std::vector<std::uint32_t> curve_nbr_;
     std::vector<std::size_t> inc_offsets_;   ///< incident corner slots 3t + c, CSR

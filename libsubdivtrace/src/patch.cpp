@@ -56,6 +56,7 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     build_edges(topo);
 
     ring_nbrs.clear();
+    ring_curve.clear();
     corner_normal.assign(3 * tris.size(), Vec3(0.0));
     for (std::uint32_t v = 0; v < n; ++v)
         if (derived[v].has_ring) finish_vertex(topo, scheme, v);
@@ -156,6 +157,17 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
         r.closed = ordered.closed;
         r.regular = ordered.regular;
         ring_nbrs.insert(ring_nbrs.end(), ordered.nbrs.begin(), ordered.nbrs.end());
+        for (std::uint32_t w : ordered.nbrs) {
+            bool curve = false;
+            if (!dv.single_sector) {
+                for (const SlotPair& pr : pairs) {
+                    const std::uint32_t c = pr.slot % 3;
+                    if (pr.from == w) curve = curve || edges[tri_edges[pr.slot]].curve;
+                    if (pr.to == w) curve = curve || edges[tri_edges[pr.slot - c + (c + 2) % 3]].curve;
+                }
+            }
+            ring_curve.push_back(curve ? 1 : 0);
+        }
     }
 
     // One normal per sector: the given normals of a base vertex (normal
@@ -204,6 +216,7 @@ void Patch::drop_derived() {
     corner_normal = {};
     rings = {};
     ring_nbrs = {};
+    ring_curve = {};
     incident_offsets = {};
     incident_slots = {};
     edges = {};
@@ -216,6 +229,7 @@ std::size_t Patch::owned_bytes() const {
     return verts.capacity() * sizeof(PatchVertex) + tris.capacity() * sizeof(PatchTriangle) +
            derived.capacity() * sizeof(VertexDerived) + corner_normal.capacity() * sizeof(Vec3) +
            rings.capacity() * sizeof(Ring) + ring_nbrs.capacity() * sizeof(std::uint32_t) +
+           ring_curve.capacity() +
            (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +
            edges.capacity() * sizeof(PatchEdge) + tri_edges.capacity() * sizeof(std::uint32_t);
 }
@@ -327,6 +341,8 @@ Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
             if (ring_nbrs[ra.offset + k] == e.b) s.index_b_in_a = k;
         for (std::uint32_t k = 0; k < rb.count; ++k)
             if (ring_nbrs[rb.offset + k] == e.a) s.index_a_in_b = k;
+        if (!derived[e.a].single_sector) restrict_to_sector(ring_a, &ring_curve[ra.offset], s.index_b_in_a);
+        if (!derived[e.b].single_sector) restrict_to_sector(ring_b, &ring_curve[rb.offset], s.index_a_in_b);
         s.ring_a = &ring_a;
         s.ring_b = &ring_b;
     }

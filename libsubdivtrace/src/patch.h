@@ -89,6 +89,9 @@ public:
     };
     std::vector<Ring> rings;
     std::vector<std::uint32_t> ring_nbrs;
+    /// Per ring_nbrs entry: its edge is a curve edge (filled for vertices
+    /// that creases split into sectors; Butterfly reads it).
+    std::vector<std::uint8_t> ring_curve;
 
     /// Incident corner slots (3t + c) of each vertex, CSR (built by finish()).
     std::vector<std::uint32_t> incident_offsets;

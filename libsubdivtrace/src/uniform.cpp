@@ -114,6 +114,11 @@ void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_e
             stencil.ring_b = &ring_b;
             stencil.index_b_in_a = topo.ring_index(edge.a, edge.b);
             stencil.index_a_in_b = topo.ring_index(edge.b, edge.a);
+            // A crease is a boundary to each side (creases.h).
+            if (!topo.single_sector(edge.a))
+                detail::restrict_to_sector(ring_a, topo.ring_curve(edge.a), stencil.index_b_in_a);
+            if (!topo.single_sector(edge.b))
+                detail::restrict_to_sector(ring_b, topo.ring_curve(edge.b), stencil.index_a_in_b);
         }
         next[old_count + e] = edge_point(scheme, stencil);
     }
