@@ -131,6 +131,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
         }
     }
     const RenderArgs a = parse_render_args(args, write_png);
+    if (write_png) check_image_module(a.view.output);
     const std::size_t baseline_rss = current_rss_bytes();
     std::vector<std::string> warnings;
     const auto build_start = std::chrono::steady_clock::now();
