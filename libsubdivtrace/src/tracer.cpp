@@ -456,6 +456,15 @@ SurfaceStats AdaptiveSurface::stats() const {
     s.cache_evictions = h.evictions;
     s.cache_bytes = h.bytes;
     s.cache_peak_bytes = h.peak_bytes;
+    const Mesh& m = impl_->mesh;
+    s.memory.mesh = m.positions.capacity() * sizeof(Vec3) + m.triangles.capacity() * sizeof(Triangle) +
+                    m.corner_normals.capacity() * sizeof(Vec3) + m.corner_uvs.capacity() * sizeof(Vec2);
+    s.memory.topology = h.topology_bytes;
+    s.memory.bvh = impl_->top.memory_bytes();
+    s.memory.roots = h.root_bytes;
+    s.memory.fronts = h.front_bytes;
+    s.memory.front_threads = h.fronts;
+    s.base_triangles = m.triangles.size();
     for (const auto& c : impl_->level_histogram) s.leaf_level_histogram.push_back(c.load());
     while (!s.leaf_level_histogram.empty() && s.leaf_level_histogram.back() == 0)
         s.leaf_level_histogram.pop_back();
