@@ -73,12 +73,25 @@ namespace {
 /// confuse a destroyed surface with a new one at the same address.
 std::atomic<std::uint64_t> g_next_surface_id{1};
 
+/// The mesh as the surface keeps it: arrays at their size, and no corner
+/// normals, which nothing reads (normals are recomputed by Gouraud on every
+/// level; creases from split normals are not honoured yet, docs/tracer.md)
+/// and which cost 72 bytes per triangle through construction's peak.
+Mesh as_kept(Mesh m) {
+    m.corner_normals.clear();
+    m.corner_normals.shrink_to_fit();
+    m.positions.shrink_to_fit();
+    m.triangles.shrink_to_fit();
+    m.corner_uvs.shrink_to_fit();
+    return m;
+}
+
 }  // namespace
 
 class SurfaceImpl {
 public:
     SurfaceImpl(Mesh m, const SurfaceOptions& o)
-        : mesh(std::move(m)),
+        : mesh(as_kept(std::move(m))),
           options(o),
           hierarchy(mesh, o.scheme, o.max_level, o.cache_mb << 20, o.shell_kind) {
         std::vector<Vec3> lo, hi;
