@@ -161,12 +161,19 @@ void Bvh::build(const std::vector<Vec3>& lo, const std::vector<Vec3>& hi, int ma
     }
     const Vec3 mid = (all_lo + all_hi) * 0.5;
     origin_ = std::isfinite(mid.x) && std::isfinite(mid.y) && std::isfinite(mid.z) ? mid : Vec3(0.0);
-    Builder b{lo, hi, {}, nodes_, items_, origin_, max_leaf_size};
-    b.centre.resize(lo.size());
-    for (std::size_t k = 0; k < lo.size(); ++k) b.centre[k] = (lo[k] + hi[k]) * 0.5;
-    b.run();
-    // The node list grew by doubling; keep only what the tree uses.
-    nodes_.shrink_to_fit();
+    // Nodes go to a list reserved for the most a tree over n items can have
+    // (2n - 1): pages past the nodes written are never touched, so never
+    // resident, and no growth copies the list. The tree keeps an exact copy,
+    // made once the builder's centres (24 bytes per item) are freed.
+    std::vector<BvhNode> nodes;
+    nodes.reserve(2 * lo.size());
+    {
+        Builder b{lo, hi, {}, nodes, items_, origin_, max_leaf_size};
+        b.centre.resize(lo.size());
+        for (std::size_t k = 0; k < lo.size(); ++k) b.centre[k] = (lo[k] + hi[k]) * 0.5;
+        b.run();
+    }
+    nodes_.assign(nodes.begin(), nodes.end());
 }
 
 namespace {
