@@ -27,3 +27,8 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/subdivtraceConfig.cmake
 
 install(TARGETS subdivtrace_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
     COMPONENT subdivtrace_cli)
+# The image module `render` loads when it writes an image (found as
+# <bindir>/../<libdir>/subdivtrace/libsubdivtrace_image.so, or in the prefix
+# the build was configured with).
+install(TARGETS subdivtrace_image LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/subdivtrace
+    COMPONENT subdivtrace_cli)

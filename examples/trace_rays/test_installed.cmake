@@ -1,7 +1,9 @@
 # ctest script: installs the library from BUILD_DIR into a prefix inside it,
 # builds this example against the *installed* package (not the source tree),
 # runs it on MESH and checks that its rays hit. Also checks that the exported
-# link interface names no OpenImageIO and no OpenMesh.
+# link interface names no OpenImageIO and no OpenMesh, and that the installed
+# CLI finds its image module (OpenImageIO, loaded only to write an image) in
+# the prefix.
 #   cmake -DBUILD_DIR=... -DEXAMPLE_DIR=... -DMESH=... -P test_installed.cmake
 foreach(var BUILD_DIR EXAMPLE_DIR MESH)
     if(NOT DEFINED ${var})
@@ -50,4 +52,24 @@ run("running the example" ${work}/build/trace_rays ${MESH} 7)
 message(STATUS "trace_rays output:\n${run_output}")
 if(NOT run_output MATCHES "ray [0-9]+: hit t=")
     message(FATAL_ERROR "the example's rays hit nothing:\n${run_output}")
+endif()
+
+# The CLI component: `render` loads the image module from <prefix>/<libdir>/subdivtrace.
+run("installing the CLI" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix}
+    --component subdivtrace_cli)
+file(GLOB_RECURSE module ${prefix}/*/subdivtrace/libsubdivtrace_image.so)
+if(NOT module)
+    message(FATAL_ERROR "no image module under ${prefix}")
+endif()
+run("rendering with the installed CLI" ${prefix}/bin/subdivtrace render ${MESH}
+    -o ${work}/installed.png --width 32 --height 24 --quiet)
+if(NOT EXISTS ${work}/installed.png)
+    message(FATAL_ERROR "the installed CLI wrote no image")
+endif()
+# With the module gone, render says where it looked (and writes nothing).
+file(REMOVE ${module})
+execute_process(COMMAND ${prefix}/bin/subdivtrace render ${MESH} -o ${work}/missing.png
+    --width 8 --height 6 --quiet RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(rc EQUAL 0 OR NOT err MATCHES "image module" OR EXISTS ${work}/missing.png)
+    message(FATAL_ERROR "without its module the CLI should fail naming it (rc ${rc}):\n${err}")
 endif()

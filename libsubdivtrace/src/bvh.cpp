@@ -1,6 +1,7 @@
 #include "bvh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <glm/common.hpp>
@@ -22,6 +23,7 @@ struct Builder {
     std::vector<Vec3> centre;
     std::vector<BvhNode>& nodes;
     std::vector<std::uint32_t>& items;
+    Vec3 origin;
     int max_leaf;
 
     void bounds(std::uint32_t begin, std::uint32_t end, Vec3& blo, Vec3& bhi, Vec3& clo,
@@ -49,8 +51,7 @@ struct Builder {
             work.pop_back();
             Vec3 blo, bhi, clo, chi;
             bounds(task.begin, task.end, blo, bhi, clo, chi);
-            nodes[task.node].lo = blo;
-            nodes[task.node].hi = bhi;
+            nodes[task.node].set_box(origin, blo, bhi);
             const std::uint32_t n = task.end - task.begin;
             std::uint32_t split = 0;
             if (n > static_cast<std::uint32_t>(max_leaf)) split = find_split(task, clo, chi, blo, bhi);
@@ -151,11 +152,61 @@ void Bvh::build(const std::vector<Vec3>& lo, const std::vector<Vec3>& hi, int ma
     items_.resize(lo.size());
     for (std::uint32_t k = 0; k < items_.size(); ++k) items_[k] = k;
     if (lo.empty()) return;
-    Builder b{lo, hi, {}, nodes_, items_, max_leaf_size};
-    b.centre.resize(lo.size());
-    for (std::size_t k = 0; k < lo.size(); ++k) b.centre[k] = (lo[k] + hi[k]) * 0.5;
-    nodes_.reserve(2 * lo.size());
-    b.run();
+    // Boxes are stored relative to the middle of all of them, so single
+    // precision keeps detail far from the coordinate origin.
+    Vec3 all_lo = lo.front(), all_hi = hi.front();
+    for (std::size_t k = 1; k < lo.size(); ++k) {
+        all_lo = glm::min(all_lo, lo[k]);
+        all_hi = glm::max(all_hi, hi[k]);
+    }
+    const Vec3 mid = (all_lo + all_hi) * 0.5;
+    origin_ = std::isfinite(mid.x) && std::isfinite(mid.y) && std::isfinite(mid.z) ? mid : Vec3(0.0);
+    // Nodes go to a list reserved for the most a tree over n items can have
+    // (2n - 1): pages past the nodes written are never touched, so never
+    // resident, and no growth copies the list. The tree keeps an exact copy,
+    // made once the builder's centres (24 bytes per item) are freed.
+    std::vector<BvhNode> nodes;
+    nodes.reserve(2 * lo.size());
+    {
+        Builder b{lo, hi, {}, nodes, items_, origin_, max_leaf_size};
+        b.centre.resize(lo.size());
+        for (std::size_t k = 0; k < lo.size(); ++k) b.centre[k] = (lo[k] + hi[k]) * 0.5;
+        b.run();
+    }
+    nodes_.assign(nodes.begin(), nodes.end());
+}
+
+namespace {
+
+constexpr float k_float_max = std::numeric_limits<float>::max();
+constexpr float k_float_inf = std::numeric_limits<float>::infinity();
+
+/// The float f nearest below x - origin such that origin + f (in double, as
+/// the traversal computes it) is <= x.
+float offset_down(double origin, double x) {
+    const double d = x - origin;
+    if (!(d >= -k_float_max)) return -k_float_inf;  // also NaN: never cull
+    float f = d > k_float_max ? k_float_max : static_cast<float>(d);
+    while (origin + static_cast<double>(f) > x) f = std::nextafter(f, -k_float_inf);
+    return f;
+}
+
+/// The float f nearest above x - origin with origin + f >= x.
+float offset_up(double origin, double x) {
+    const double d = x - origin;
+    if (!(d <= k_float_max)) return k_float_inf;
+    float f = d < -k_float_max ? -k_float_max : static_cast<float>(d);
+    while (origin + static_cast<double>(f) < x) f = std::nextafter(f, k_float_inf);
+    return f;
+}
+
+}  // namespace
+
+void BvhNode::set_box(const Vec3& origin, const Vec3& blo, const Vec3& bhi) {
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = offset_down(origin[a], blo[a]);
+        hi[a] = offset_up(origin[a], bhi[a]);
+    }
 }
 
 }  // namespace subdivtrace::detail

@@ -10,11 +10,24 @@
 
 namespace subdivtrace::detail {
 
+/// 32 bytes (a double box took 56): the box in single precision relative to
+/// the tree's origin, rounded outwards so that `origin + stored`, evaluated in
+/// double exactly as the traversal does, holds the double box (a ray that
+/// hits an item's box hits every node above it).
 struct BvhNode {
-    Vec3 lo;
-    Vec3 hi;
+    float lo[3];
+    float hi[3];
     std::uint32_t first = 0;  ///< first item (leaf) or left child (inner; right = left + 1)
     std::uint32_t count = 0;  ///< items in a leaf; 0 for inner nodes
+
+    Vec3 box_lo(const Vec3& origin) const {
+        return Vec3(origin.x + lo[0], origin.y + lo[1], origin.z + lo[2]);
+    }
+    Vec3 box_hi(const Vec3& origin) const {
+        return Vec3(origin.x + hi[0], origin.y + hi[1], origin.z + hi[2]);
+    }
+    /// Stores [blo, bhi] relative to origin, rounded outwards as above.
+    void set_box(const Vec3& origin, const Vec3& blo, const Vec3& bhi);
 };
 
 class Bvh {
@@ -24,6 +37,7 @@ public:
     void build(const std::vector<Vec3>& lo, const std::vector<Vec3>& hi, int max_leaf_size = 4);
 
     bool empty() const { return nodes_.empty(); }
+    const Vec3& origin() const { return origin_; }
     const BvhNode& root() const { return nodes_.front(); }
     std::size_t node_count() const { return nodes_.size(); }
     std::size_t memory_bytes() const {
@@ -43,7 +57,7 @@ public:
             RayBoxQuery q = query;
             q.t_max = t_max;
             double t_entry = 0.0;
-            if (!ray_hits_box(q, node.lo, node.hi, t_entry)) continue;
+            if (!ray_hits_box(q, node.box_lo(origin_), node.box_hi(origin_), t_entry)) continue;
             if (node.count > 0) {
                 for (std::uint32_t k = 0; k < node.count; ++k) visit(items_[node.first + k]);
                 continue;
@@ -52,8 +66,8 @@ public:
             const BvhNode& left = nodes_[node.first];
             const BvhNode& right = nodes_[node.first + 1];
             double tl = 0.0, tr = 0.0;
-            const bool hl = ray_hits_box(q, left.lo, left.hi, tl);
-            const bool hr = ray_hits_box(q, right.lo, right.hi, tr);
+            const bool hl = ray_hits_box(q, left.box_lo(origin_), left.box_hi(origin_), tl);
+            const bool hr = ray_hits_box(q, right.box_lo(origin_), right.box_hi(origin_), tr);
             if (hl && hr) {
                 if (tl <= tr) {
                     stack[top++] = node.first + 1;
@@ -71,6 +85,7 @@ public:
     }
 
 private:
+    Vec3 origin_{0.0};  ///< node boxes are stored relative to it (the root box's centre)
     std::vector<BvhNode> nodes_;
     std::vector<std::uint32_t> items_;
 };

@@ -6,29 +6,31 @@
 
 namespace subdivtrace::detail {
 
-namespace {
-
-std::uint64_t pair_key(std::uint32_t lo, std::uint32_t hi) {
-    return (std::uint64_t{lo} << 32) | hi;
-}
-
-}  // namespace
-
 BaseTopology::BaseTopology(const Mesh& mesh) : mesh_(mesh) {
-    vertex_faces_.resize(mesh.positions.size());
-    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-        const Triangle& t = mesh.triangles[f];
-        for (int c = 0; c < 3; ++c) {
-            vertex_faces_[t[c]].push_back(f);
-            const std::uint32_t u = t[c], w = t[(c + 1) % 3];
-            edge_faces_[pair_key(std::min(u, w), std::max(u, w))].push_back(f);
-        }
+    // Count, prefix-sum, fill: faces land in increasing order per vertex, and
+    // the arrays are allocated once at their final size.
+    const std::size_t nv = mesh.positions.size();
+    vertex_offset_.assign(nv + 1, 0);
+    for (const Triangle& t : mesh.triangles)
+        for (std::uint32_t v : t) ++vertex_offset_[v + 1];
+    for (std::size_t v = 0; v < nv; ++v) vertex_offset_[v + 1] += vertex_offset_[v];
+    vertex_faces_.resize(vertex_offset_[nv]);
+    std::vector<std::uint32_t> fill(vertex_offset_.begin(), vertex_offset_.end() - 1);
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f)
+        for (std::uint32_t v : mesh.triangles[f]) vertex_faces_[fill[v]++] = f;
+
+    // Closed: every edge, seen from each of its faces, has exactly two.
+    for (const Triangle& t : mesh.triangles) {
+        for (int c = 0; c < 3 && closed_; ++c)
+            closed_ = edge_face_count(t[c], t[(c + 1) % 3]) == 2;
+        if (!closed_) break;
     }
-    for (const auto& entry : edge_faces_) closed_ = closed_ && entry.second.size() == 2;
     crease_mask_ = crease_masks(mesh);
     const bool any_crease = std::any_of(crease_mask_.begin(), crease_mask_.end(),
                                         [](std::uint8_t m) { return m != 0; });
-    if (!any_crease) crease_mask_.clear();
+    if (!any_crease) crease_mask_ = std::vector<std::uint8_t>();  // frees it
+    // A closed mesh without creases has no curve: it keeps no flags.
+    if (closed_ && !any_crease) return;
     on_curve_.assign(mesh.positions.size(), 0);
     for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
         const Triangle& t = mesh.triangles[f];
@@ -39,10 +41,10 @@ BaseTopology::BaseTopology(const Mesh& mesh) : mesh_(mesh) {
     }
 }
 
-const std::vector<std::uint32_t>* BaseTopology::faces_of_edge(std::uint32_t lo,
-                                                              std::uint32_t hi) const {
-    auto it = edge_faces_.find(pair_key(lo, hi));
-    return it == edge_faces_.end() ? nullptr : &it->second;
+std::size_t BaseTopology::edge_face_count(std::uint32_t u, std::uint32_t w) const {
+    std::size_t n = 0;
+    for_each_face_of_edge(u, w, [&](std::uint32_t) { ++n; });
+    return n;
 }
 
 VertexKey BaseTopology::canonical(std::uint32_t face, int level, std::uint32_t i,
@@ -90,7 +92,7 @@ void BaseTopology::representations(const VertexKey& key, int level,
     const int shift = level - key.level;
     switch (key.kind) {
         case VertexKey::base_vertex:
-            for (std::uint32_t f : vertex_faces_[key.a]) {
+            for (std::uint32_t f : faces_of_vertex(key.a)) {
                 const Triangle& t = mesh_.triangles[f];
                 if (t[0] == key.a) out.push_back({f, 0, 0});
                 else if (t[1] == key.a) out.push_back({f, n, 0});
@@ -98,10 +100,8 @@ void BaseTopology::representations(const VertexKey& key, int level,
             }
             break;
         case VertexKey::edge_point: {
-            const std::vector<std::uint32_t>* faces = faces_of_edge(key.a, key.b);
-            if (!faces) break;
             const std::uint32_t w_hi = key.c << shift;
-            for (std::uint32_t f : *faces) {
+            for_each_face_of_edge(key.a, key.b, [&](std::uint32_t f) {
                 const Triangle& t = mesh_.triangles[f];
                 std::uint32_t w[3] = {0, 0, 0};
                 for (int c = 0; c < 3; ++c) {
@@ -109,7 +109,7 @@ void BaseTopology::representations(const VertexKey& key, int level,
                     else if (t[c] == key.a) w[c] = n - w_hi;
                 }
                 out.push_back({f, w[1], w[2]});
-            }
+            });
             break;
         }
         case VertexKey::face_point:

@@ -9,7 +9,6 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "subdivtrace/mesh.h"
@@ -56,8 +55,27 @@ struct GridPoint {
     std::uint32_t j = 0;
 };
 
+/// The faces around one base vertex: a view into BaseTopology's flat arrays
+/// (valid while the topology lives), in increasing face order.
+class FaceRange {
+public:
+    FaceRange(const std::uint32_t* begin, const std::uint32_t* end) : begin_(begin), end_(end) {}
+    const std::uint32_t* begin() const { return begin_; }
+    const std::uint32_t* end() const { return end_; }
+    std::size_t size() const { return static_cast<std::size_t>(end_ - begin_); }
+    bool empty() const { return begin_ == end_; }
+    std::uint32_t operator[](std::size_t k) const { return begin_[k]; }
+
+private:
+    const std::uint32_t* begin_;
+    const std::uint32_t* end_;
+};
+
 /// Base-mesh connectivity the grid needs: faces around each vertex and the
-/// faces on each (unordered) vertex pair.
+/// faces on each (unordered) vertex pair. Stored as one flat list of faces per
+/// vertex (compressed rows: an offset per vertex, 3 entries per face); the
+/// faces on an edge are those of its lower vertex that also hold the upper
+/// one, so edges cost no memory of their own.
 class BaseTopology {
 public:
     explicit BaseTopology(const Mesh& mesh);
@@ -71,15 +89,14 @@ public:
     /// edges and corners), in a fixed order.
     void representations(const VertexKey& key, int level, std::vector<GridPoint>& out) const;
 
-    const std::vector<std::uint32_t>& faces_of_vertex(std::uint32_t v) const {
-        return vertex_faces_[v];
+    /// The faces that have base vertex v as a corner, in increasing order.
+    FaceRange faces_of_vertex(std::uint32_t v) const {
+        return FaceRange(vertex_faces_.data() + vertex_offset_[v],
+                         vertex_faces_.data() + vertex_offset_[v + 1]);
     }
 
     /// Number of base triangles on the edge between base vertices u and w.
-    std::size_t edge_face_count(std::uint32_t u, std::uint32_t w) const {
-        const auto* faces = faces_of_edge(std::min(u, w), std::max(u, w));
-        return faces ? faces->size() : 0;
-    }
+    std::size_t edge_face_count(std::uint32_t u, std::uint32_t w) const;
 
     /// True if every base edge has exactly two triangles.
     bool closed() const { return closed_; }
@@ -92,20 +109,32 @@ public:
     /// True if base vertex v touches a boundary edge (one triangle) or a
     /// crease: only such vertices, and edge points between two of them, can
     /// lie on a curve of the subdivided surface.
-    bool on_curve(std::uint32_t v) const { return on_curve_[v] != 0; }
+    bool on_curve(std::uint32_t v) const { return !on_curve_.empty() && on_curve_[v] != 0; }
+
+    /// Heap bytes the topology holds (its arrays; the mesh is the caller's).
+    std::size_t owned_bytes() const {
+        return vertex_offset_.capacity() * sizeof(std::uint32_t) +
+               vertex_faces_.capacity() * sizeof(std::uint32_t) + crease_mask_.capacity() +
+               on_curve_.capacity();
+    }
 
 private:
-    const std::vector<std::uint32_t>* faces_of_edge(std::uint32_t lo, std::uint32_t hi) const;
+    /// Calls visit(f) for every face on the edge {u, w}, in increasing order.
+    template <class Visit>
+    void for_each_face_of_edge(std::uint32_t u, std::uint32_t w, Visit visit) const {
+        const std::uint32_t lo = std::min(u, w), hi = std::max(u, w);
+        for (std::uint32_t f : faces_of_vertex(lo)) {
+            const Triangle& t = mesh_.triangles[f];
+            if (t[0] == hi || t[1] == hi || t[2] == hi) visit(f);
+        }
+    }
 
     const Mesh& mesh_;
-    std::vector<std::vector<std::uint32_t>> vertex_faces_;
-    struct PairHash {
-        std::size_t operator()(std::uint64_t x) const { return static_cast<std::size_t>(mix64(x)); }
-    };
-    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>, PairHash> edge_faces_;
+    std::vector<std::uint32_t> vertex_offset_;  ///< vertex count + 1 entries
+    std::vector<std::uint32_t> vertex_faces_;   ///< 3 per face
     bool closed_ = true;
     std::vector<std::uint8_t> crease_mask_;  ///< empty when the mesh has no crease
-    std::vector<std::uint8_t> on_curve_;
+    std::vector<std::uint8_t> on_curve_;  ///< empty when nothing is on a curve
 };
 
 /// The grid triangles of resolution n that have grid point (i, j) as a

@@ -67,6 +67,22 @@ std::array<std::array<std::uint32_t, 2>, 3> node_corner_grid(const NodeId& n) {
     return {{{n.i + 1, n.j}, {n.i + 1, n.j + 1}, {n.i, n.j + 1}}};
 }
 
+/// A tile as the cache holds it, with the bytes it is charged (computed once,
+/// at build time, before any other thread can see it).
+struct CachedTile {
+    CachedTile(const detail::TileContext& ctx, const NodeId& root, const detail::Patch* parent)
+        : tile(ctx, root, parent), bytes(tile.bytes_when_complete()) {}
+    detail::Tile tile;
+    std::size_t bytes;
+};
+
+/// What the threads' fronts of one hierarchy hold, shared with the fronts so
+/// a front that outlives its hierarchy still has somewhere to report to.
+struct FrontTally {
+    std::atomic<std::size_t> fronts{0};
+    std::atomic<std::size_t> tile_bytes{0};  ///< tiles held, each front counting its own
+};
+
 class HierarchyImpl {
 public:
     HierarchyImpl(const Mesh& mesh, SchemeKind scheme, int max_level, std::size_t cache_bytes,
@@ -76,49 +92,70 @@ public:
           roots(context),
           tiles(cache_bytes) {}
 
+    /// A few tiles per thread in front of the shared cache: a ray's
+    /// neighbours descend through the same tiles, and this spares them the
+    /// shared cache's lock. A tile's values never change once computed (lazy
+    /// levels are added under its own lock), so a thread holding one cannot
+    /// see a value the cache would not give. A front serves one hierarchy at
+    /// a time; it drops its tiles when its thread moves to another or exits.
+    struct Front {
+        static constexpr std::size_t k_slots = 64;
+        struct Slot {
+            NodeId root;
+            std::shared_ptr<const CachedTile> tile;
+        };
+        std::uint64_t owner = 0;
+        std::shared_ptr<FrontTally> tally;
+        std::array<Slot, k_slots> slots;
+
+        void release() {
+            if (!tally) return;
+            std::size_t held = 0;
+            for (auto& slot : slots) {
+                if (slot.tile) held += slot.tile->bytes;
+                slot.tile.reset();
+            }
+            tally->tile_bytes.fetch_sub(held, std::memory_order_relaxed);
+            tally->fronts.fetch_sub(1, std::memory_order_relaxed);
+            tally.reset();
+        }
+        ~Front() { release(); }
+    };
+
     /// The tile rooted at `root`, from this thread's front: valid until this
     /// thread's next call.
     const detail::Tile* front_tile(const NodeId& root) {
-        // A few tiles per thread in front of the shared cache: a ray's
-        // neighbours descend through the same tiles, and this spares them the
-        // shared cache's lock. A tile's values never change once computed
-        // (lazy levels are added under its own lock), so a thread holding
-        // one cannot see a value the cache would not give.
-        struct Front {
-            std::uint64_t owner = 0;
-            struct Slot {
-                NodeId root;
-                std::shared_ptr<const detail::Tile> tile;
-            };
-            std::array<Slot, 64> slots;
-        };
         thread_local Front front;
         if (front.owner != id) {
-            for (auto& slot : front.slots) slot.tile.reset();
+            front.release();
             front.owner = id;
+            front.tally = front_tally;
+            front_tally->fronts.fetch_add(1, std::memory_order_relaxed);
         }
-        auto& slot = front.slots[NodeKeyHash{}(root) % front.slots.size()];
-        if (slot.tile && slot.root == root) return slot.tile.get();
-        std::shared_ptr<const detail::Tile> t = tile(root);
+        auto& slot = front.slots[NodeKeyHash{}(root) % Front::k_slots];
+        if (slot.tile && slot.root == root) return &slot.tile->tile;
+        std::shared_ptr<const CachedTile> t = tile(root);
+        front_tally->tile_bytes.fetch_add(t->bytes, std::memory_order_relaxed);
+        if (slot.tile) front_tally->tile_bytes.fetch_sub(slot.tile->bytes, std::memory_order_relaxed);
         slot.root = root;
         slot.tile = std::move(t);
-        return slot.tile.get();
+        return &slot.tile->tile;
     }
 
-    std::shared_ptr<const detail::Tile> tile(const NodeId& root) {
-        std::shared_ptr<const detail::Tile> t;
+    std::shared_ptr<const CachedTile> tile(const NodeId& root) {
+        std::shared_ptr<const CachedTile> t;
         if (!tiles.lookup(root, t)) t = build(root);
         return t;
     }
 
-    std::shared_ptr<const detail::Tile> build(const NodeId& root) {
+    std::shared_ptr<const CachedTile> build(const NodeId& root) {
         // A child tile starts from its parent tile's last patch (rebuilt in
         // turn if it was evicted: values never depend on the cache).
-        std::shared_ptr<const detail::Tile> parent;
+        std::shared_ptr<const CachedTile> parent;
         if (root.level > 0) parent = tile(detail::parent_tile_root(root));
-        auto built = std::make_shared<const detail::Tile>(context, root,
-                                                          parent ? &parent->last_patch() : nullptr);
-        tiles.insert(root, built, built->bytes_when_complete());
+        auto built = std::make_shared<const CachedTile>(
+            context, root, parent ? &parent->tile.last_patch() : nullptr);
+        tiles.insert(root, built, built->bytes);
         return built;
     }
 
@@ -129,7 +166,8 @@ public:
     detail::BaseTopology topo;
     detail::TileContext context;
     detail::RootRecords roots;
-    detail::ShardedLruCache<NodeId, std::shared_ptr<const detail::Tile>, NodeKeyHash> tiles;
+    detail::ShardedLruCache<NodeId, std::shared_ptr<const CachedTile>, NodeKeyHash> tiles;
+    std::shared_ptr<FrontTally> front_tally = std::make_shared<FrontTally>();
 };
 
 Hierarchy::Hierarchy(const Mesh& mesh, SchemeKind scheme, int max_level,
@@ -159,8 +197,13 @@ HierarchyCounters Hierarchy::counters() const {
     c.node_hits = t.hits;
     c.node_misses = t.misses;
     c.evictions = t.evictions;
-    c.bytes = t.bytes + impl_->roots.owned_bytes();
-    c.peak_bytes = t.peak_bytes + impl_->roots.owned_bytes();
+    c.bytes = t.bytes;
+    c.peak_bytes = t.peak_bytes;
+    c.topology_bytes = impl_->topo.owned_bytes();
+    c.root_bytes = impl_->roots.owned_bytes();
+    c.fronts = impl_->front_tally->fronts.load(std::memory_order_relaxed);
+    c.front_bytes = c.fronts * sizeof(HierarchyImpl::Front) +
+                    impl_->front_tally->tile_bytes.load(std::memory_order_relaxed);
     return c;
 }
 

@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "bvh.h"
+#include "creases.h"
 #include "ray_triangle.h"
 #include "subdivtrace/hierarchy.h"
 
@@ -73,12 +74,31 @@ namespace {
 /// confuse a destroyed surface with a new one at the same address.
 std::atomic<std::uint64_t> g_next_surface_id{1};
 
+/// The mesh as the surface keeps it: arrays at their size, and corner
+/// normals only where something reads them (the normal scheme's level-0
+/// normals; creases, which split normals mark for every scheme): elsewhere
+/// they would cost 72 bytes per triangle through construction's peak.
+Mesh as_kept(Mesh m, SchemeKind scheme) {
+    const auto creases = detail::crease_masks(m);
+    const bool any_crease =
+        std::any_of(creases.begin(), creases.end(), [](std::uint8_t c) { return c != 0; });
+    if (scheme != SchemeKind::normal && !any_crease) {
+        m.corner_normals.clear();
+        m.corner_normals.shrink_to_fit();
+    }
+    m.positions.shrink_to_fit();
+    m.triangles.shrink_to_fit();
+    m.corner_normals.shrink_to_fit();
+    m.corner_uvs.shrink_to_fit();
+    return m;
+}
+
 }  // namespace
 
 class SurfaceImpl {
 public:
     SurfaceImpl(Mesh m, const SurfaceOptions& o)
-        : mesh(std::move(m)),
+        : mesh(as_kept(std::move(m), o.scheme)),
           options(o),
           hierarchy(mesh, o.scheme, o.max_level, o.cache_mb << 20, o.shell_kind) {
         std::vector<Vec3> lo, hi;
@@ -456,6 +476,15 @@ SurfaceStats AdaptiveSurface::stats() const {
     s.cache_evictions = h.evictions;
     s.cache_bytes = h.bytes;
     s.cache_peak_bytes = h.peak_bytes;
+    const Mesh& m = impl_->mesh;
+    s.memory.mesh = m.positions.capacity() * sizeof(Vec3) + m.triangles.capacity() * sizeof(Triangle) +
+                    m.corner_normals.capacity() * sizeof(Vec3) + m.corner_uvs.capacity() * sizeof(Vec2);
+    s.memory.topology = h.topology_bytes;
+    s.memory.bvh = impl_->top.memory_bytes();
+    s.memory.roots = h.root_bytes;
+    s.memory.fronts = h.front_bytes;
+    s.memory.front_threads = h.fronts;
+    s.base_triangles = m.triangles.size();
     for (const auto& c : impl_->level_histogram) s.leaf_level_histogram.push_back(c.load());
     while (!s.leaf_level_histogram.empty() && s.leaf_level_histogram.back() == 0)
         s.leaf_level_histogram.pop_back();

@@ -111,6 +111,15 @@ std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& r
         j << "  \"cache_hits\": " << ss->trace.cache_hits << ", \"cache_misses\": "
           << ss->trace.cache_misses << ", \"cache_evictions\": " << ss->cache_evictions << ",\n";
         j << "  \"cache_peak_mb\": " << ss->cache_peak_bytes / 1048576.0 << ",\n";
+        // What the surface holds outside the cache budget, part by part.
+        const SurfaceMemory& m = ss->memory;
+        const double faces = std::max<double>(1.0, static_cast<double>(ss->base_triangles));
+        j << "  \"memory_bytes\": {\"mesh\": " << m.mesh << ", \"topology\": " << m.topology
+          << ", \"bvh\": " << m.bvh << ", \"roots\": " << m.roots << ", \"fronts\": " << m.fronts
+          << ", \"front_threads\": " << m.front_threads << ", \"cache\": " << ss->cache_bytes
+          << ", \"cache_peak\": " << ss->cache_peak_bytes << "},\n";
+        j << "  \"base_triangles\": " << ss->base_triangles << ",\n";
+        j << "  \"base_bytes_per_triangle\": " << m.base() / faces << ",\n";
         j << "  \"deepest_level\": " << ss->trace.deepest_level << ",\n";
         j << "  \"leaf_level_histogram\": [";
         for (std::size_t k = 0; k < ss->leaf_level_histogram.size(); ++k)
@@ -132,6 +141,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
         }
     }
     const RenderArgs a = parse_render_args(args, write_png);
+    if (write_png) check_image_module(a.view.output);
     const std::size_t baseline_rss = current_rss_bytes();
     std::vector<std::string> warnings;
     const auto build_start = std::chrono::steady_clock::now();
@@ -173,7 +183,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
         const SurfaceStats ss = surface.stats();
         json = stats_json(a, build_seconds, rs, &ss,
                           surface.uniform_triangle_count(ss.trace.deepest_level),
-                          ss.cache_peak_bytes, baseline_rss);
+                          ss.memory.base() + ss.cache_peak_bytes, baseline_rss);
     }
     if (write_png) {
         write_image(a.view.output, image);

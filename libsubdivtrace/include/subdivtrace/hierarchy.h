@@ -64,9 +64,15 @@ struct HierarchyCounters {
     std::uint64_t nodes_built = 0;  ///< node records computed (tiles x their nodes)
     std::uint64_t node_hits = 0;    ///< tile cache hits
     std::uint64_t node_misses = 0;  ///< tile cache misses (tiles built)
-    std::uint64_t evictions = 0;  ///< tiles evicted
-    std::size_t bytes = 0;
-    std::size_t peak_bytes = 0;
+    std::uint64_t evictions = 0;    ///< tiles dropped from the cache to keep its budget
+    std::size_t bytes = 0;          ///< what the tile cache is charged now (bounded by its budget)
+    std::size_t peak_bytes = 0;     ///< the most it was charged (per shard, summed)
+    std::size_t topology_bytes = 0; ///< the base topology's arrays
+    std::size_t root_bytes = 0;     ///< the level-0 records
+    /// The threads' fronts: their tables and the tiles they hold (each tile
+    /// counted once per front; most are in the cache too, so this overlaps it).
+    std::size_t front_bytes = 0;
+    std::size_t fronts = 0;         ///< threads holding a front of this hierarchy
 };
 
 class HierarchyImpl;

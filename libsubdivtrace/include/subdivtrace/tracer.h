@@ -100,12 +100,31 @@ struct TraceCounters {
     void add(const TraceCounters& o);
 };
 
+/// Heap bytes the surface holds, by part (capacities of its arrays, plus
+/// malloc's bookkeeping where a part allocates per entry).
+struct SurfaceMemory {
+    std::size_t mesh = 0;      ///< its copy of the mesh (positions, triangles, corner normals, UVs)
+    std::size_t topology = 0;  ///< base topology: faces around each vertex (4 B/vertex + 12 B/triangle)
+    std::size_t bvh = 0;       ///< top-level BVH over the base triangles' shells
+    std::size_t roots = 0;     ///< level-0 records: compact shells, per-vertex normals (Loop: limit points)
+    /// Per-thread tile fronts: their tables and the tiles they hold. Most of
+    /// those tiles are in the cache too, so fronts + cache over-counts them.
+    std::size_t fronts = 0;
+    std::size_t front_threads = 0;  ///< threads holding a front
+    /// Everything but the cache and the fronts: fixed once the surface is built.
+    std::size_t base() const { return mesh + topology + bvh + roots; }
+};
+
 struct SurfaceStats {
     TraceCounters trace;
     std::uint64_t nodes_built = 0;
+    /// Tiles dropped from the cache to keep it within cache_mb (each tile is
+    /// one entry holding up to 84 node records; see docs/tracer.md).
     std::uint64_t cache_evictions = 0;
-    std::size_t cache_bytes = 0;
-    std::size_t cache_peak_bytes = 0;
+    std::size_t cache_bytes = 0;       ///< what the tile cache is charged now (<= cache_mb)
+    std::size_t cache_peak_bytes = 0;  ///< the most it was charged
+    SurfaceMemory memory;
+    std::size_t base_triangles = 0;  ///< triangles of the base mesh
     std::vector<std::uint64_t> leaf_level_histogram;  ///< index = level
 };
 

@@ -1,53 +1,93 @@
 #include "render/image_out.h"
 
-#include <algorithm>
-#include <cmath>
-#include <cstdio>
-#include <memory>
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <mutex>
 #include <stdexcept>
 
-#include <OpenImageIO/imageio.h>
+#include "image_module/image_module.h"
 
 namespace subdivtrace::tools {
 
 namespace {
 
-unsigned char to_srgb8(float linear) {
-    const float c = std::clamp(linear, 0.0f, 1.0f);
-    const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-    return static_cast<unsigned char>(std::lround(s * 255.0f));
+std::string executable_dir() {
+    std::string buf(4096, '\0');
+    const ssize_t n = readlink("/proc/self/exe", buf.data(), buf.size() - 1);
+    if (n <= 0) return "";
+    buf.resize(static_cast<std::size_t>(n));
+    const auto slash = buf.find_last_of('/');
+    return slash == std::string::npos ? "" : buf.substr(0, slash);
 }
 
-bool wants_float(const std::string& path) {
-    const auto dot = path.find_last_of('.');
-    const std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-    return ext == "exr" || ext == "hdr" || ext == "tif" || ext == "tiff";
+/// The module's write function, loaded once; throws with every place tried.
+subdivtrace_image_write_fn load_writer() {
+    static std::mutex mutex;
+    static subdivtrace_image_write_fn writer = nullptr;
+    std::lock_guard<std::mutex> lock(mutex);
+    if (writer) return writer;
+    std::string tried;
+    for (const std::string& file : image_module_candidates()) {
+        if (access(file.c_str(), F_OK) != 0) {
+            tried += "\n  " + file + ": no such file";
+            continue;
+        }
+        void* handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+        if (!handle) {
+            const char* e = dlerror();
+            tried += "\n  " + file + ": " + (e ? e : "cannot load");
+            continue;
+        }
+        void* symbol = dlsym(handle, SUBDIVTRACE_IMAGE_WRITE_SYMBOL);
+        if (!symbol) {
+            tried += "\n  " + file + ": no " SUBDIVTRACE_IMAGE_WRITE_SYMBOL;
+            dlclose(handle);
+            continue;
+        }
+        writer = reinterpret_cast<subdivtrace_image_write_fn>(symbol);
+        return writer;
+    }
+    throw std::runtime_error("cannot write images: the image module " SUBDIVTRACE_IMAGE_MODULE_FILE
+                             " (OpenImageIO) was not found or did not load:" + tried);
 }
 
 }  // namespace
 
+std::vector<std::string> image_module_candidates() {
+    std::vector<std::string> out;
+    if (const char* env = std::getenv("SUBDIVTRACE_IMAGE_MODULE"); env && *env) out.push_back(env);
+    const std::string file = SUBDIVTRACE_IMAGE_MODULE_FILE;
+    const std::string exe = executable_dir();
+    if (!exe.empty()) {
+        out.push_back(exe + "/" + file);
+        out.push_back(exe + "/../" SUBDIVTRACE_INSTALL_LIBDIR "/subdivtrace/" + file);
+    }
+    out.push_back(SUBDIVTRACE_INSTALL_FULL_LIBDIR "/subdivtrace/" + file);
+    return out;
+}
+
+void check_image_module(const std::string& path) {
+    std::string tried;
+    for (const std::string& file : image_module_candidates()) {
+        if (access(file.c_str(), F_OK) == 0) return;
+        tried += "\n  " + file + ": no such file";
+    }
+    throw std::runtime_error(path + ": cannot write images: the image module " SUBDIVTRACE_IMAGE_MODULE_FILE
+                             " (OpenImageIO) was not found:" + tried);
+}
+
 void write_image(const std::string& path, const Image& image) {
-    const std::string temp = path + ".partial";
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out) throw std::runtime_error(path + ": no image format for this file name");
-    const bool as_float = wants_float(path);
-    OIIO::ImageSpec spec(image.width, image.height, 3,
-                         as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-    // Open the temporary file with the writer chosen for the real name.
-    if (!out->open(temp, spec)) throw std::runtime_error(path + ": " + out->geterror());
-    bool ok;
-    if (as_float) {
-        ok = out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
-    } else {
-        std::vector<unsigned char> bytes(image.rgb.size());
-        std::transform(image.rgb.begin(), image.rgb.end(), bytes.begin(), to_srgb8);
-        ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+    subdivtrace_image_write_fn write;
+    try {
+        write = load_writer();
+    } catch (const std::exception& e) {
+        throw std::runtime_error(path + ": " + e.what());
     }
-    ok = out->close() && ok;
-    if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) {
-        std::remove(temp.c_str());
-        throw std::runtime_error(path + ": could not write the image");
-    }
+    char error[512] = "";
+    if (write(path.c_str(), image.width, image.height, image.rgb.data(), error, sizeof error) != 0)
+        throw std::runtime_error(path + ": " + error);
 }
 
 }  // namespace subdivtrace::tools

@@ -121,8 +121,9 @@ std::string run_stats_json_fields(double build_s, const RenderStats& rs, std::si
     j << "  \"build_seconds\": " << build_s << ",\n";
     j << "  \"trace_seconds\": " << rs.trace_seconds << ",\n";
     j << "  \"total_seconds\": " << build_s + rs.trace_seconds << ",\n";
-    // The process's resident set before the mesh is read (mostly shared
-    // libraries: OpenImageIO pulls in ~260), and the peak above it.
+    // The process's resident set before the mesh is read (its shared
+    // libraries; the image module with OpenImageIO is loaded only after these
+    // figures are taken, to write the image), and the peak above it.
     j << "  \"peak_rss_mb\": " << peak / 1048576.0 << ",\n";
     j << "  \"baseline_rss_mb\": " << baseline_rss / 1048576.0 << ",\n";
     j << "  \"peak_rss_above_baseline_mb\": "
