@@ -317,6 +317,106 @@ TEST_CASE("all hits report each crossing once and inside() follows parity", "[tr
     CHECK(surface.is_closed());
 }
 
+namespace {
+
+/// Axis-aligned box [lo, hi], 12 triangles facing out; each face is split
+/// along the diagonal from its (min, min) corner to its (max, max) corner.
+void add_box(Mesh& m, const Vec3& lo, const Vec3& hi) {
+    const auto base = static_cast<std::uint32_t>(m.positions.size());
+    for (int i = 0; i < 8; ++i)
+        m.positions.push_back({i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z});
+    const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads) {
+        m.triangles.push_back({base + q[0], base + q[1], base + q[2]});
+        m.triangles.push_back({base + q[0], base + q[2], base + q[3]});
+    }
+}
+
+}  // namespace
+
+TEST_CASE("all hits tell crossings apart by structure, not by distance", "[tracer]") {
+    // Two unit boxes stacked with a gap of 1e-12, far below the 1e-10 of the
+    // scene size a distance tolerance used to merge; at max_level 0 the drawn
+    // triangles are the base ones, so every crossing below is known exactly.
+    const double gap = 1e-12;
+    Mesh mesh;
+    add_box(mesh, Vec3(-1.0), Vec3(1.0));
+    add_box(mesh, Vec3(-1.0, -1.0, 1.0 + gap), Vec3(1.0, 1.0, 3.0 + gap));
+    const AdaptiveSurface surface(mesh, options_for(mesh, SchemeKind::normal, 0.01, 0));
+    std::vector<Hit> hits;
+    Ray ray;
+    ray.direction = Vec3(0.0, 0.0, 1.0);
+
+    SECTION("two crossings 1e-12 apart are both reported") {
+        ray.origin = Vec3(0.3, 0.2, -5.0);
+        surface.intersect_all(ray, hits);
+        REQUIRE(hits.size() == 4);
+        CHECK(hits[0].t == 4.0);
+        CHECK(hits[1].t == 6.0);
+        CHECK(hits[2].t == 6.0 + gap);
+        CHECK(hits[3].t == Approx(8.0 + gap));
+        // Inside the lower box just under its top: the fixed ray of inside()
+        // leaves it and enters the upper box ~1e-12 later, then leaves that.
+        CHECK(surface.inside(Vec3(0.0, 0.0, 1.0 - 0.5 * gap)));
+        CHECK_FALSE(surface.inside(Vec3(0.0, 0.0, 1.0 + 0.5 * gap)));
+    }
+    SECTION("a ray along shared edges meets two triangles on each, reports one crossing") {
+        // (0.25, 0.25) lies on the diagonal edge of the bottom and top faces.
+        ray.origin = Vec3(0.25, 0.25, -5.0);
+        surface.intersect_all(ray, hits);
+        REQUIRE(hits.size() == 4);
+        CHECK(hits[0].t == 4.0);
+        CHECK(hits[2].t == 6.0 + gap);
+        TraceCounters counters;
+        Hit nearest;
+        REQUIRE(surface.intersect(ray, nearest, &counters));
+        CHECK(nearest.t == 4.0);
+    }
+    SECTION("a ray through two corners of a box reports each corner once") {
+        // Along the lower box's diagonal: in at (-1, -1, -1), out at (1, 1, 1),
+        // passing the upper box's corner 1e-12 outside it.
+        ray.origin = Vec3(-3.0);
+        ray.direction = Vec3(1.0);
+        surface.intersect_all(ray, hits);
+        REQUIRE(hits.size() == 2);
+        CHECK(hits[0].t == 2.0);
+        CHECK(hits[1].t == 4.0);
+        CHECK(glm::dot(hits[0].geometric_normal, ray.direction) < 0.0);
+        CHECK(glm::dot(hits[1].geometric_normal, ray.direction) > 0.0);
+    }
+}
+
+TEST_CASE("all hits: a triangle drawn twice, once each way round, is no crossing", "[tracer]") {
+    // The double layer in its plainest form: a square drawn both ways round,
+    // below a closed box. It encloses nothing, so a ray through it does not
+    // change sides; one hit for it (what merging by distance gave) would turn
+    // every inside test through it around.
+    Mesh mesh;
+    add_box(mesh, Vec3(-1.0), Vec3(1.0));
+    const auto a = static_cast<std::uint32_t>(mesh.positions.size());
+    for (const Vec2 c : {Vec2(-2.0, -2.0), Vec2(2.0, -2.0), Vec2(2.0, 2.0), Vec2(-2.0, 2.0)})
+        mesh.positions.push_back({c.x, c.y, -3.0});
+    mesh.triangles.push_back({a, a + 1, a + 2});
+    mesh.triangles.push_back({a, a + 2, a + 3});
+    mesh.triangles.push_back({a, a + 2, a + 1});
+    mesh.triangles.push_back({a, a + 3, a + 2});
+    const AdaptiveSurface surface(mesh, options_for(mesh, SchemeKind::normal, 0.01, 0));
+    Ray ray;
+    ray.origin = Vec3(0.3, 0.2, -5.0);
+    ray.direction = Vec3(0.0, 0.0, 1.0);
+    Hit nearest;
+    REQUIRE(surface.intersect(ray, nearest));
+    CHECK(nearest.t == 2.0);  // the nearest hit still sees the square
+    std::vector<Hit> hits;
+    surface.intersect_all(ray, hits);
+    REQUIRE(hits.size() == 2);
+    CHECK(hits[0].t == 4.0);
+    CHECK(hits[1].t == 6.0);
+    CHECK(surface.inside(Vec3(0.1, 0.1, 0.0)));
+    CHECK_FALSE(surface.inside(Vec3(0.0, 0.0, -4.0)));
+}
+
 TEST_CASE("bad options and bad rays give clear errors, never NaN", "[tracer]") {
     const Mesh mesh = testmesh::icosahedron();
     SurfaceOptions o;
