@@ -317,32 +317,14 @@ TEST_CASE("all hits report each crossing once and inside() follows parity", "[tr
     CHECK(surface.is_closed());
 }
 
-namespace {
-
-/// Axis-aligned box [lo, hi], 12 triangles facing out; each face is split
-/// along the diagonal from its (min, min) corner to its (max, max) corner.
-void add_box(Mesh& m, const Vec3& lo, const Vec3& hi) {
-    const auto base = static_cast<std::uint32_t>(m.positions.size());
-    for (int i = 0; i < 8; ++i)
-        m.positions.push_back({i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z});
-    const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-    for (const auto& q : quads) {
-        m.triangles.push_back({base + q[0], base + q[1], base + q[2]});
-        m.triangles.push_back({base + q[0], base + q[2], base + q[3]});
-    }
-}
-
-}  // namespace
-
 TEST_CASE("all hits tell crossings apart by structure, not by distance", "[tracer]") {
     // Two unit boxes stacked with a gap of 1e-12, far below the 1e-10 of the
     // scene size a distance tolerance used to merge; at max_level 0 the drawn
     // triangles are the base ones, so every crossing below is known exactly.
     const double gap = 1e-12;
     Mesh mesh;
-    add_box(mesh, Vec3(-1.0), Vec3(1.0));
-    add_box(mesh, Vec3(-1.0, -1.0, 1.0 + gap), Vec3(1.0, 1.0, 3.0 + gap));
+    testmesh::add_box(mesh, Vec3(-1.0), Vec3(1.0));
+    testmesh::add_box(mesh, Vec3(-1.0, -1.0, 1.0 + gap), Vec3(1.0, 1.0, 3.0 + gap));
     const AdaptiveSurface surface(mesh, options_for(mesh, SchemeKind::normal, 0.01, 0));
     std::vector<Hit> hits;
     Ray ray;
@@ -393,7 +375,7 @@ TEST_CASE("all hits: a triangle drawn twice, once each way round, is no crossing
     // change sides; one hit for it (what merging by distance gave) would turn
     // every inside test through it around.
     Mesh mesh;
-    add_box(mesh, Vec3(-1.0), Vec3(1.0));
+    testmesh::add_box(mesh, Vec3(-1.0), Vec3(1.0));
     const auto a = static_cast<std::uint32_t>(mesh.positions.size());
     for (const Vec2 c : {Vec2(-2.0, -2.0), Vec2(2.0, -2.0), Vec2(2.0, 2.0), Vec2(-2.0, 2.0)})
         mesh.positions.push_back({c.x, c.y, -3.0});
