@@ -28,19 +28,10 @@ const char* k_stability_help =
     "Exit status 1 if any hit is non-finite, any ray leaks or any deviation\n"
     "exceeds its rounding bound.\n";
 
-int positive_int(const Args& args, std::size_t& i) {
+int int_value(const Args& args, std::size_t& i) {
     if (i + 1 >= args.size()) throw UsageError{args[i] + " needs a value"};
-    const std::string& v = args[++i];
-    std::size_t used = 0;
-    int n = 0;
-    try {
-        n = std::stoi(v, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != v.size() || n < 1 || n > 4096)
-        throw UsageError{args[i - 1] + " must be an integer in 1..4096, got '" + v + "'"};
-    return n;
+    ++i;
+    return tools::parse_int(args[i - 1], args[i], 1, 4096);
 }
 
 }  // namespace
@@ -58,11 +49,11 @@ int run_stability(const Args& args) {
             height = 30;
             inside_rays = 200;
         } else if (a == "--width") {
-            width = positive_int(args, i);
+            width = int_value(args, i);
         } else if (a == "--height") {
-            height = positive_int(args, i);
+            height = int_value(args, i);
         } else if (a == "--inside-rays") {
-            inside_rays = positive_int(args, i);
+            inside_rays = int_value(args, i);
         } else if (a == "--case") {
             if (i + 1 >= args.size()) throw UsageError{"--case needs a name"};
             names.push_back(args[++i]);

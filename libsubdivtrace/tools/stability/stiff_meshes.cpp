@@ -9,9 +9,10 @@ namespace {
 
 constexpr double k_pi = 3.14159265358979323846;
 
-/// Splits edge (a, b) of both faces that have it at point x, a new vertex;
-/// returns its index.
-std::uint32_t split_edge(Mesh& m, std::uint32_t a, std::uint32_t b, const Vec3& x) {
+/// Splits edge (a, b) at point x, a new vertex, in both faces that have it
+/// or, with `only_a_to_b`, only in the face running a -> b; returns its index.
+std::uint32_t split_edge(Mesh& m, std::uint32_t a, std::uint32_t b, const Vec3& x,
+                         bool only_a_to_b = false) {
     const auto xi = static_cast<std::uint32_t>(m.positions.size());
     m.positions.push_back(x);
     std::vector<Triangle> out;
@@ -19,7 +20,7 @@ std::uint32_t split_edge(Mesh& m, std::uint32_t a, std::uint32_t b, const Vec3& 
         bool split = false;
         for (int i = 0; i < 3 && !split; ++i) {
             const std::uint32_t u = t[i], w = t[(i + 1) % 3], o = t[(i + 2) % 3];
-            if ((u == a && w == b) || (u == b && w == a)) {
+            if ((u == a && w == b) || (!only_a_to_b && u == b && w == a)) {
                 out.push_back({u, xi, o});
                 out.push_back({xi, w, o});
                 split = true;
@@ -61,26 +62,11 @@ Mesh zero_area_mesh() {
     // Vertices 4 (0, -a, b) and 5 (0, a, b) differ in y only, so their midpoint
     // is exact and (4, 5, mid) has exactly zero area.
     const Vec3 mid = (m.positions[4] + m.positions[5]) * 0.5;
-    const auto xi = static_cast<std::uint32_t>(m.positions.size());
-    m.positions.push_back(mid);
     // The face running 4 -> 5 -> o becomes (4, x, o) and (x, 5, o); the
     // T-junction is closed by (4, 5, x), whose edges pair with 4 -> x, x -> 5 and
     // the other face's 5 -> 4.
-    std::vector<Triangle> out;
-    for (const Triangle& t : m.triangles) {
-        bool split = false;
-        for (int i = 0; i < 3 && !split; ++i) {
-            if (t[i] == 4 && t[(i + 1) % 3] == 5) {
-                const std::uint32_t o = t[(i + 2) % 3];
-                out.push_back({4, xi, o});
-                out.push_back({xi, 5, o});
-                split = true;
-            }
-        }
-        if (!split) out.push_back(t);
-    }
-    out.push_back({4, 5, xi});
-    m.triangles.swap(out);
+    const std::uint32_t xi = split_edge(m, 4, 5, mid, true);
+    m.triangles.push_back({4, 5, xi});
     return m;
 }
 
