@@ -405,8 +405,9 @@ namespace {
 /// corner the ray passes through winds once: one crossing. A triangle the
 /// snapped rule draws twice, once each way round (the double layer), and a
 /// silhouette edge or corner the ray only touches wind zero times: no crossing.
-/// Where the triangles met all face one way but cover less than half a turn
-/// (the corner of an open mesh), the ray still meets the surface: one crossing.
+/// A ray running along a drawn edge meets its two corners with part of each
+/// fan edge-on (no hit); their windings then add up to a whole number, so
+/// rounding each to the nearest keeps the parity of the pair.
 void merge_crossings(std::vector<CrossingPart>& parts, std::vector<Hit>& hits) {
     std::sort(parts.begin(), parts.end(), feature_less);
     std::vector<Hit> out;
@@ -415,13 +416,8 @@ void merge_crossings(std::vector<CrossingPart>& parts, std::vector<Hit>& hits) {
         std::size_t end = first + 1;
         while (end < parts.size() && !feature_less(parts[first], parts[end])) ++end;
         double turns = 0.0;
-        bool front = false, back = false;
-        for (std::size_t k = first; k < end; ++k) {
-            turns += parts[k].turns;
-            (parts[k].turns > 0.0 ? front : back) = true;
-        }
-        long crossings = std::lround(std::abs(turns));
-        if (crossings == 0 && front != back) crossings = 1;
+        for (std::size_t k = first; k < end; ++k) turns += parts[k].turns;
+        const long crossings = std::lround(std::abs(turns));
         // Report the hit of a triangle facing the way the crossing goes.
         std::size_t pick = first;
         for (std::size_t k = first; k < end; ++k)

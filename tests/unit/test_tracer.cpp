@@ -369,6 +369,64 @@ TEST_CASE("all hits tell crossings apart by structure, not by distance", "[trace
     }
 }
 
+TEST_CASE("all hits: rays at drawn corners cross a closed mesh an even number of times, "
+          "from inside an odd one", "[tracer]") {
+    // Aimed at the corners the ray's own surface draws, where many leaves
+    // meet: each crossing there must count once for parity to hold.
+    std::size_t rays = 0, even_from_outside = 0, odd_from_inside = 0;
+    for (const NamedMesh& m : closed_corpus()) {
+        for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop}) {
+            const SurfaceOptions o = options_for(m.mesh, scheme, 0.02, 4);
+            const AdaptiveSurface surface(m.mesh, o);
+            const double d = testmesh::bbox_diagonal(m.mesh.positions);
+            std::vector<std::array<Vec3, 3>> drawn;
+            std::vector<Hit> hits;
+            for (const Vec3& dir : view_origins(m.mesh, 3, 5)) {
+                const Vec3 origin = glm::normalize(dir) * (3.0 * d);
+                surface.drawn_triangles(origin, glm::length(origin - o.view.camera), drawn);
+                const std::size_t step = std::max<std::size_t>(1, drawn.size() / 60);
+                for (std::size_t k = 0; k < drawn.size(); k += step) {
+                    for (const Vec3& corner : drawn[k]) {
+                        Ray ray;
+                        ray.origin = origin;
+                        ray.direction = corner - origin;
+                        surface.intersect_all(ray, hits);
+                        ++rays;
+                        even_from_outside += hits.size() % 2 == 0;
+                        ray.origin = m.inside;
+                        ray.direction = corner - m.inside;
+                        surface.intersect_all(ray, hits);
+                        odd_from_inside += hits.size() % 2 == 1;
+                    }
+                }
+            }
+            // The normal scheme keeps base vertices bit for bit and every leaf
+            // around one draws it: an axis-aligned ray through one meets it
+            // exactly (the shear leaves the other two coordinates as they are).
+            if (scheme == SchemeKind::normal) {
+                for (const Vec3& v : m.mesh.positions) {
+                    for (int axis = 0; axis < 3; ++axis) {
+                        for (double sign : {-1.0, 1.0}) {
+                            Ray ray;
+                            ray.direction = Vec3(0.0);
+                            ray.direction[axis] = sign;
+                            ray.origin = v - 3.0 * d * ray.direction;
+                            surface.intersect_all(ray, hits);
+                            ++rays;
+                            ++odd_from_inside;  // no inside ray for these
+                            even_from_outside += hits.size() % 2 == 0;
+                        }
+                    }
+                }
+            }
+            INFO(m.name << " " << scheme_name(scheme));
+            CHECK(even_from_outside == rays);
+            CHECK(odd_from_inside == rays);
+        }
+    }
+    CHECK(rays > 5000);
+}
+
 TEST_CASE("all hits: a triangle drawn twice, once each way round, is no crossing", "[tracer]") {
     // The double layer in its plainest form: a square drawn both ways round,
     // below a closed box. It encloses nothing, so a ray through it does not
