@@ -38,6 +38,11 @@ inline WatertightRay make_watertight_ray(const Vec3& origin, const Vec3& dir) {
 struct TriangleHit {
     double t;
     double b0, b1, b2;  ///< barycentric weights of corners 0, 1, 2
+    /// Twice the triangle's signed area seen along the ray: its sign says
+    /// which side the ray crossed from; exactly zero weights above mean the
+    /// ray met an edge (one zero) or a corner (two), the same for every
+    /// triangle that shares it (the edge functions are computed identically).
+    double det;
 };
 
 /// Intersects both sides; true with t in (t_min, t_max).
@@ -69,6 +74,7 @@ inline bool intersect_watertight(const WatertightRay& r, const Vec3& p0, const V
     hit.b0 = u * inv;
     hit.b1 = v * inv;
     hit.b2 = w * inv;
+    hit.det = det;
     return true;
 }
 

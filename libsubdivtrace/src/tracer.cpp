@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -40,6 +41,30 @@ struct DrawnCorner {
     Vec2 domain;  ///< barycentric weights of base corners 1 and 2
     bool alive;
 };
+
+/// What one all-hits hit met, for telling crossings apart by structure: the
+/// drawn triangle's inside, one of its edges or one of its corners, named by
+/// its drawn positions (bit-identical wherever leaves share them), and the
+/// signed share of a full turn around the ray that this triangle covers there.
+struct CrossingPart {
+    std::array<Vec3, 3> feature;  ///< sorted corners; unused ones zero
+    int corners;                  ///< 3 inside, 2 edge, 1 corner
+    double turns;                 ///< +-1 inside, +-1/2 edge, +-angle/(2 pi) corner
+    std::size_t hit;              ///< index into the hits
+};
+
+bool position_less(const Vec3& a, const Vec3& b) {
+    return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
+}
+
+bool feature_less(const CrossingPart& a, const CrossingPart& b) {
+    if (a.corners != b.corners) return a.corners < b.corners;
+    for (int c = 0; c < a.corners; ++c) {
+        if (position_less(a.feature[c], b.feature[c])) return true;
+        if (position_less(b.feature[c], a.feature[c])) return false;
+    }
+    return false;
+}
 
 Vec2 grid_domain(const NodeId& id, int corner) {
     const auto g = node_corner_grid(id)[corner];
@@ -110,8 +135,6 @@ public:
             bounds.hi = f == 0 ? hi.back() : glm::max(bounds.hi, hi.back());
         }
         top.build(lo, hi, 2);
-        scale = std::max(glm::length(bounds.hi - bounds.lo),
-                         std::max(glm::length(bounds.lo), glm::length(bounds.hi)));
         level_histogram = std::vector<std::atomic<std::uint64_t>>(k_max_level_cap + 1);
     }
 
@@ -125,7 +148,6 @@ public:
     Hierarchy hierarchy;
     detail::Bvh top;
     Bounds3 bounds;
-    double scale = 1.0;
     const std::uint64_t id = g_next_surface_id.fetch_add(1);
     mutable std::vector<std::atomic<std::uint64_t>> level_histogram;
     /// Running totals, relaxed atomics: no ray waits on another for them.
@@ -166,6 +188,8 @@ struct Traversal {
     TraceCounters counters;
     /// Diagnostics mode: no culling, leaves collected instead of intersected.
     std::vector<std::array<Vec3, 3>>* drawn_out = nullptr;
+    /// All-hits mode: what each hit met, parallel to *all_hits.
+    std::vector<CrossingPart> parts;
 
     /// DESIGN section 5: an edge refines while it is longer than the ray's
     /// footprint where the ray would meet it, width(d) = angle * (D + d) * tol.
@@ -224,6 +248,7 @@ struct Traversal {
         } else {
             h.uv = w;
         }
+        h.triangle = {drawn[0].position, drawn[1].position, drawn[2].position};
         h.level = id.level;
         h.base_face = id.face;
         // Rounding of the hit point, plus how far the surface another ray sees
@@ -238,12 +263,54 @@ struct Traversal {
         h.error_bound = gamma_bound(7) * (ap.x + ap.y + ap.z) +
                         std::max({0.0, grown.thickness(), parent_thickness});
         if (collect_all) {
+            parts.push_back(crossing_part(h.triangle, th, all_hits->size()));
             all_hits->push_back(h);
         } else {
             best = h;
             found = true;
             t_max = h.t;
         }
+    }
+
+    /// The feature of the leaf the ray met and the share of a turn around the
+    /// ray the leaf covers there. Zero weights are exact (the watertight test
+    /// computes a shared edge's function identically from both sides), so
+    /// every leaf that meets the same edge or corner names the same feature.
+    CrossingPart crossing_part(const std::array<Vec3, 3>& t, const detail::TriangleHit& th,
+                               std::size_t hit) const {
+        constexpr double k_two_pi = 6.283185307179586476925;
+        const double b[3] = {th.b0, th.b1, th.b2};
+        const double sign = th.det > 0.0 ? 1.0 : -1.0;
+        CrossingPart part{{Vec3(0.0), Vec3(0.0), Vec3(0.0)}, 0, 0.0, hit};
+        for (int c = 0; c < 3; ++c)
+            if (b[c] != 0.0) part.feature[part.corners++] = t[c];
+        // At most three: sorted by hand (std::sort here trips GCC 12's -Warray-bounds).
+        auto order = [&](int x, int y) {
+            if (position_less(part.feature[y], part.feature[x]))
+                std::swap(part.feature[x], part.feature[y]);
+        };
+        if (part.corners >= 2) order(0, 1);
+        if (part.corners == 3) {
+            order(1, 2);
+            order(0, 1);
+        }
+        if (part.corners == 3) {
+            part.turns = sign;
+        } else if (part.corners == 2) {
+            part.turns = 0.5 * sign;
+        } else {
+            // The corner's angle in the plane across the ray (the test's shear).
+            const int i = b[0] != 0.0 ? 0 : b[1] != 0.0 ? 1 : 2;
+            auto project = [&](const Vec3& p) {
+                const Vec3 q = p - wray.origin;
+                return Vec2(q[wray.kx] - wray.sx * q[wray.kz], q[wray.ky] - wray.sy * q[wray.kz]);
+            };
+            const Vec2 o = project(t[i]);
+            const Vec2 u = project(t[(i + 1) % 3]) - o, v = project(t[(i + 2) % 3]) - o;
+            const double angle = std::atan2(std::abs(u.x * v.y - u.y * v.x), u.x * v.x + u.y * v.y);
+            part.turns = sign * angle / k_two_pi;
+        }
+        return part;
     }
 
     /// Starts the descent at a base triangle: its corners and edges are its own.
@@ -349,6 +416,44 @@ struct Traversal {
 
 }  // namespace
 
+namespace {
+
+/// Each crossing once, by structure (docs/tracer.md section 3): the hits on one
+/// feature (a drawn triangle's inside, edge or corner) are one place where the
+/// ray meets the surface, crossed as many times as the triangles there wind
+/// around the ray (their signed turns, summed and rounded). A shared edge or
+/// corner the ray passes through winds once: one crossing. A triangle the
+/// snapped rule draws twice, once each way round (the double layer), and a
+/// silhouette edge or corner the ray only touches wind zero times: no crossing.
+/// A ray running along a drawn edge meets its two corners with part of each
+/// fan edge-on (no hit); their windings then add up to a whole number, so
+/// rounding each to the nearest keeps the parity of the pair.
+void merge_crossings(std::vector<CrossingPart>& parts, std::vector<Hit>& hits) {
+    std::sort(parts.begin(), parts.end(), feature_less);
+    std::vector<Hit> out;
+    out.reserve(hits.size());
+    for (std::size_t first = 0; first < parts.size();) {
+        std::size_t end = first + 1;
+        while (end < parts.size() && !feature_less(parts[first], parts[end])) ++end;
+        double turns = 0.0;
+        for (std::size_t k = first; k < end; ++k) turns += parts[k].turns;
+        const long crossings = std::lround(std::abs(turns));
+        // Report the hit of a triangle facing the way the crossing goes.
+        std::size_t pick = first;
+        for (std::size_t k = first; k < end; ++k)
+            if ((parts[k].turns > 0.0) == (turns > 0.0)) {
+                pick = k;
+                break;
+            }
+        for (long c = 0; c < crossings; ++c) out.push_back(hits[parts[pick].hit]);
+        first = end;
+    }
+    std::sort(out.begin(), out.end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
+    hits.swap(out);
+}
+
+}  // namespace
+
 void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
                         std::vector<Hit>* hits, TraceCounters* counters) const {
     const double dir_length = glm::length(ray.direction);
@@ -372,23 +477,16 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
                  Hit{},
                  false,
                  hits,
-                 TraceCounters{}};
+                 TraceCounters{},
+                 nullptr,
+                 {}};
     tr.counters.rays = 1;
     top.traverse(tr.query, tr.t_max, [&](std::uint32_t face) { tr.visit_root(face); });
     if (found) *found = tr.found;
     if (nearest && tr.found) *nearest = tr.best;
     if (tr.found) level_histogram[tr.best.level].fetch_add(1, std::memory_order_relaxed);
     if (all && hits) {
-        // Each crossing once: the snapped rule can draw a triangle twice, and a
-        // ray through a shared edge meets both triangles at the same t.
-        std::sort(hits->begin(), hits->end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
-        const double tol = 1e-10 * scale / dir_length;
-        std::size_t out = 0;
-        for (std::size_t k = 0; k < hits->size(); ++k) {
-            if (out > 0 && (*hits)[k].t - (*hits)[out - 1].t <= tol) continue;
-            (*hits)[out++] = (*hits)[k];
-        }
-        hits->resize(out);
+        merge_crossings(tr.parts, *hits);
         for (const Hit& h : *hits) level_histogram[h.level].fetch_add(1, std::memory_order_relaxed);
     }
     if (counters) counters->add(tr.counters);
@@ -411,7 +509,8 @@ void SurfaceImpl::collect_drawn(const Vec3& origin, double origin_distance,
                  false,
                  nullptr,
                  TraceCounters{},
-                 &out};
+                 &out,
+                 {}};
     for (std::uint32_t face = 0; face < mesh.triangles.size(); ++face) tr.visit_root(face);
 }
 

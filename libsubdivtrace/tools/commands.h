@@ -18,6 +18,7 @@ int run_subdivide(const Args& args);
 int run_export_mesh2(const Args& args);
 int run_render(const Args& args);
 int run_stats(const Args& args);
+int run_stability(const Args& args);
 
 /// Thrown by argument parsing; main prints it with the command's help, exit 2.
 using UsageError = tools::UsageError;

@@ -19,6 +19,8 @@ const char* k_usage =
     "                                    POV-Ray mesh2 include\n"
     "  render MESH -o OUT.png [options]  per-ray adaptive render (render --help)\n"
     "  stats MESH [options]              work counters of an adaptive render, as JSON\n"
+    "  stability [--quick]               the stiff cases' table: levels, work, memory,\n"
+    "                                    NaNs, leaks, deviation (stability --help)\n"
     "\n"
     "schemes: normal (default, the paper's), loop, butterfly\n"
     "exit status: 0 ok, 1 bad input, 2 usage error\n";
@@ -39,6 +41,7 @@ int main(int argc, char** argv) {
         if (command == "export-mesh2") return run_export_mesh2(args);
         if (command == "render") return run_render(args);
         if (command == "stats") return run_stats(args);
+        if (command == "stability") return run_stability(args);
     } catch (const UsageError& e) {
         std::fprintf(stderr, "subdivtrace %s: %s\n\n%s", command.c_str(), e.message.c_str(),
                      k_usage);

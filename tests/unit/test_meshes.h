@@ -10,12 +10,21 @@
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include "stability/stiff_meshes.h"
 #include "subdivtrace/mesh.h"
 
 namespace subdivtrace::testmesh {
 
-/// Regular icosahedron, circumradius 1: 12 vertices, 20 faces.
-Mesh icosahedron();
+// The stiff meshes the `subdivtrace stability` table builds too:
+// icosahedron, sliver_mesh, zero_area_mesh, high_valence_fan, folded,
+// add_box, offset_mesh (libsubdivtrace/tools/stability/stiff_meshes.h).
+using tools::add_box;
+using tools::folded;
+using tools::high_valence_fan;
+using tools::icosahedron;
+using tools::offset_mesh;
+using tools::sliver_mesh;
+using tools::zero_area_mesh;
 
 /// The icosahedron split 1-to-4 `subdivisions` times with every vertex
 /// projected to the unit sphere (1 -> 42 vertices, 80 faces).
@@ -39,21 +48,6 @@ inline std::uint32_t grid_index(int n, int i, int j) {
     return static_cast<std::uint32_t>(j * (n + 1) + i);
 }
 
-/// Closed icosahedron with one edge split very near an endpoint: two needle
-/// triangles of aspect ratio ~1e6 (longest edge squared over twice the area).
-Mesh sliver_mesh();
-
-/// Closed icosahedron with an exactly collinear T-junction closed by a
-/// zero-area triangle.
-Mesh zero_area_mesh();
-
-/// Closed bipyramid: a ring of n vertices and two apexes of valence n.
-Mesh high_valence_fan(int n);
-
-/// A thin closed lens (two cones of height 1e-4 on a unit ring of 8): faces
-/// that meet at the rim have normals ~180 degrees apart.
-Mesh folded();
-
 /// A unit sphere made like the Utah teapot: 6 patches (the cube's faces, each
 /// an n x n grid of quads split into triangles, projected onto the sphere),
 /// each patch with its own (n + 1)^2 vertices, so every seam vertex is written
@@ -68,7 +62,7 @@ Mesh folded();
 MeshArrays patch_split_sphere(int n, bool shared);
 
 /// Axis-aligned cube [-1, 1]^3, 12 triangles, with faceted normals: every
-/// corner carries its face's normal, so all 18 edges are creases (as a mesh2
+/// corner carries its face's normal, so its 12 edges are creases (the face diagonals are not) (as a mesh2
 /// cube written with one normal per face).
 Mesh faceted_cube();
 
@@ -84,9 +78,6 @@ Mesh icosphere_with_normals(int subdivisions);
 /// (projected), cut at the equator into its upper (z >= 0) or lower half:
 /// two open meshes whose boundaries are the same polyline in z = 0.
 Mesh octasphere_half(int subdivisions, bool upper);
-
-/// p * scale + offset for every position (normals and UVs unchanged).
-Mesh offset_mesh(Mesh mesh, const Vec3& offset, double scale);
 
 /// Longest edge squared over twice the area (infinite for zero area).
 double max_aspect_ratio(const Mesh& mesh);

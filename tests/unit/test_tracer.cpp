@@ -319,6 +319,146 @@ TEST_CASE("all hits report each crossing once and inside() follows parity", "[tr
     CHECK(surface.is_closed());
 }
 
+TEST_CASE("all hits tell crossings apart by structure, not by distance", "[tracer]") {
+    // Two unit boxes stacked with a gap of 1e-12, far below the 1e-10 of the
+    // scene size a distance tolerance used to merge; at max_level 0 the drawn
+    // triangles are the base ones, so every crossing below is known exactly.
+    const double gap = 1e-12;
+    Mesh mesh;
+    testmesh::add_box(mesh, Vec3(-1.0), Vec3(1.0));
+    testmesh::add_box(mesh, Vec3(-1.0, -1.0, 1.0 + gap), Vec3(1.0, 1.0, 3.0 + gap));
+    const AdaptiveSurface surface(mesh, options_for(mesh, SchemeKind::normal, 0.01, 0));
+    std::vector<Hit> hits;
+    Ray ray;
+    ray.direction = Vec3(0.0, 0.0, 1.0);
+
+    SECTION("two crossings 1e-12 apart are both reported") {
+        ray.origin = Vec3(0.3, 0.2, -5.0);
+        surface.intersect_all(ray, hits);
+        REQUIRE(hits.size() == 4);
+        CHECK(hits[0].t == 4.0);
+        CHECK(hits[1].t == 6.0);
+        CHECK(hits[2].t == 6.0 + gap);
+        CHECK(hits[3].t == Approx(8.0 + gap));
+        // Inside the lower box just under its top: the fixed ray of inside()
+        // leaves it and enters the upper box ~1e-12 later, then leaves that.
+        CHECK(surface.inside(Vec3(0.0, 0.0, 1.0 - 0.5 * gap)));
+        CHECK_FALSE(surface.inside(Vec3(0.0, 0.0, 1.0 + 0.5 * gap)));
+    }
+    SECTION("a ray along shared edges meets two triangles on each, reports one crossing") {
+        // (0.25, 0.25) lies on the diagonal edge of the bottom and top faces.
+        ray.origin = Vec3(0.25, 0.25, -5.0);
+        surface.intersect_all(ray, hits);
+        REQUIRE(hits.size() == 4);
+        CHECK(hits[0].t == 4.0);
+        CHECK(hits[2].t == 6.0 + gap);
+        TraceCounters counters;
+        Hit nearest;
+        REQUIRE(surface.intersect(ray, nearest, &counters));
+        CHECK(nearest.t == 4.0);
+    }
+    SECTION("a ray through two corners of a box reports each corner once") {
+        // Along the lower box's diagonal: in at (-1, -1, -1), out at (1, 1, 1),
+        // passing the upper box's corner 1e-12 outside it.
+        ray.origin = Vec3(-3.0);
+        ray.direction = Vec3(1.0);
+        surface.intersect_all(ray, hits);
+        REQUIRE(hits.size() == 2);
+        CHECK(hits[0].t == 2.0);
+        CHECK(hits[1].t == 4.0);
+        CHECK(glm::dot(hits[0].geometric_normal, ray.direction) < 0.0);
+        CHECK(glm::dot(hits[1].geometric_normal, ray.direction) > 0.0);
+    }
+}
+
+TEST_CASE("all hits: rays at drawn corners cross a closed mesh an even number of times, "
+          "from inside an odd one", "[tracer]") {
+    // Aimed at the corners the ray's own surface draws, where many leaves
+    // meet: each crossing there must count once for parity to hold.
+    std::size_t rays = 0, even_from_outside = 0, odd_from_inside = 0;
+    for (const NamedMesh& m : closed_corpus()) {
+        for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop}) {
+            const SurfaceOptions o = options_for(m.mesh, scheme, 0.02, 4);
+            const AdaptiveSurface surface(m.mesh, o);
+            const double d = testmesh::bbox_diagonal(m.mesh.positions);
+            std::vector<std::array<Vec3, 3>> drawn;
+            std::vector<Hit> hits;
+            for (const Vec3& dir : view_origins(m.mesh, 3, 5)) {
+                const Vec3 origin = glm::normalize(dir) * (3.0 * d);
+                surface.drawn_triangles(origin, glm::length(origin - o.view.camera), drawn);
+                const std::size_t step = std::max<std::size_t>(1, drawn.size() / 60);
+                for (std::size_t k = 0; k < drawn.size(); k += step) {
+                    for (const Vec3& corner : drawn[k]) {
+                        Ray ray;
+                        ray.origin = origin;
+                        ray.direction = corner - origin;
+                        surface.intersect_all(ray, hits);
+                        ++rays;
+                        even_from_outside += hits.size() % 2 == 0;
+                        ray.origin = m.inside;
+                        ray.direction = corner - m.inside;
+                        surface.intersect_all(ray, hits);
+                        odd_from_inside += hits.size() % 2 == 1;
+                    }
+                }
+            }
+            // The normal scheme keeps base vertices bit for bit and every leaf
+            // around one draws it: an axis-aligned ray through one meets it
+            // exactly (the shear leaves the other two coordinates as they are).
+            if (scheme == SchemeKind::normal) {
+                for (const Vec3& v : m.mesh.positions) {
+                    for (int axis = 0; axis < 3; ++axis) {
+                        for (double sign : {-1.0, 1.0}) {
+                            Ray ray;
+                            ray.direction = Vec3(0.0);
+                            ray.direction[axis] = sign;
+                            ray.origin = v - 3.0 * d * ray.direction;
+                            surface.intersect_all(ray, hits);
+                            ++rays;
+                            ++odd_from_inside;  // no inside ray for these
+                            even_from_outside += hits.size() % 2 == 0;
+                        }
+                    }
+                }
+            }
+            INFO(m.name << " " << scheme_name(scheme));
+            CHECK(even_from_outside == rays);
+            CHECK(odd_from_inside == rays);
+        }
+    }
+    CHECK(rays > 5000);
+}
+
+TEST_CASE("all hits: a triangle drawn twice, once each way round, is no crossing", "[tracer]") {
+    // The double layer in its plainest form: a square drawn both ways round,
+    // below a closed box. It encloses nothing, so a ray through it does not
+    // change sides; one hit for it (what merging by distance gave) would turn
+    // every inside test through it around.
+    Mesh mesh;
+    testmesh::add_box(mesh, Vec3(-1.0), Vec3(1.0));
+    const auto a = static_cast<std::uint32_t>(mesh.positions.size());
+    for (const Vec2 c : {Vec2(-2.0, -2.0), Vec2(2.0, -2.0), Vec2(2.0, 2.0), Vec2(-2.0, 2.0)})
+        mesh.positions.push_back({c.x, c.y, -3.0});
+    mesh.triangles.push_back({a, a + 1, a + 2});
+    mesh.triangles.push_back({a, a + 2, a + 3});
+    mesh.triangles.push_back({a, a + 2, a + 1});
+    mesh.triangles.push_back({a, a + 3, a + 2});
+    const AdaptiveSurface surface(mesh, options_for(mesh, SchemeKind::normal, 0.01, 0));
+    Ray ray;
+    ray.origin = Vec3(0.3, 0.2, -5.0);
+    ray.direction = Vec3(0.0, 0.0, 1.0);
+    Hit nearest;
+    REQUIRE(surface.intersect(ray, nearest));
+    CHECK(nearest.t == 2.0);  // the nearest hit still sees the square
+    std::vector<Hit> hits;
+    surface.intersect_all(ray, hits);
+    REQUIRE(hits.size() == 2);
+    CHECK(hits[0].t == 4.0);
+    CHECK(hits[1].t == 6.0);
+    CHECK(surface.inside(Vec3(0.1, 0.1, 0.0)));
+    CHECK_FALSE(surface.inside(Vec3(0.0, 0.0, -4.0)));
+}
+
 TEST_CASE("bad options and bad rays give clear errors, never NaN", "[tracer]") {
     const Mesh mesh = testmesh::icosahedron();
     SurfaceOptions o;

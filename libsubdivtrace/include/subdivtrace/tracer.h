@@ -82,6 +82,9 @@ struct Hit {
     /// From the base mesh's per-corner UVs; without UVs, the barycentric
     /// weights of the base triangle's corners 1 and 2 at the hit.
     Vec2 uv{0.0};
+    /// The leaf triangle as drawn (corners after snapping), wound so that
+    /// geometric_normal is its normal: a caller can re-intersect it exactly.
+    std::array<Vec3, 3> triangle{};
     int level = 0;             ///< subdivision level of the leaf that was hit
     std::uint32_t base_face = 0;
     /// Upper bound on how far `point` may lie from the exact ray/leaf hit and
@@ -145,7 +148,9 @@ public:
     bool intersect(const Ray& ray, Hit& hit, TraceCounters* counters = nullptr) const;
 
     /// Every crossing along the ray in (t_min, t_max), sorted by t, each surface
-    /// crossing reported once (for CSG).
+    /// crossing reported once (for CSG). Crossings are told apart by what the
+    /// ray meets (a drawn triangle's inside, edge or corner, and the winding of
+    /// the triangles there), never by distance: see docs/tracer.md.
     void intersect_all(const Ray& ray, std::vector<Hit>& hits,
                        TraceCounters* counters = nullptr) const;
 

@@ -23,4 +23,11 @@ std::size_t proc_status_bytes(const char* field) {
 std::size_t peak_rss_bytes() { return proc_status_bytes("VmHWM"); }
 std::size_t current_rss_bytes() { return proc_status_bytes("VmRSS"); }
 
+bool reset_peak_rss() {
+    std::ofstream clear("/proc/self/clear_refs");
+    clear << "5";
+    clear.flush();
+    return static_cast<bool>(clear);
+}
+
 }  // namespace subdivtrace::tools
