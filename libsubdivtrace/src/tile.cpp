@@ -19,6 +19,11 @@ namespace {
 constexpr double k_displacement_factor = 2.0;
 /// Relative slack for rounding in the stencils, times the node's extent.
 constexpr double k_rounding_slack = 1e-9;
+/// Rounding steps allowed per coordinate between a base vertex and any
+/// descendant (a few operations per stencil, over up to 16 levels, with
+/// margin), times the coordinates' magnitude; the shell containment test at
+/// 1e6 from the origin holds it.
+constexpr int k_stencil_rounding_steps = 64 * 17;
 
 [[noreturn]] void stencil_cut(const char* what) {
     // The border arithmetic in patch.h guarantees every value a tile reads;
@@ -87,10 +92,14 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
             if (tri.id.level + 1 < ctx.max_level) shell.pad(k_displacement_factor * max_displacement);
         }
     }
+    // Slack for the stencils' rounding: relative to the node's extent, plus
+    // the rounding of coordinates of this magnitude (a pad relative to the
+    // distance from the origin would swallow a small mesh far from it: at
+    // 1e6 it was wider than a 1e-3 mesh, and no shell culled anything).
     const Vec3 extent = shell.hi - shell.lo;
-    const double size =
-        std::max({extent.x, extent.y, extent.z, glm::length(shell.lo), glm::length(shell.hi)});
-    shell.pad(k_rounding_slack * size);
+    const Vec3 magnitude = glm::max(glm::abs(shell.lo), glm::abs(shell.hi));
+    shell.pad(k_rounding_slack * std::max({extent.x, extent.y, extent.z}) +
+              gamma_bound(k_stencil_rounding_steps) * (magnitude.x + magnitude.y + magnitude.z));
     return rec;
 }
 
