@@ -460,29 +460,62 @@ void Patch::trim_to(const std::vector<bool>& keep) {
     *this = copy_of(*this, keep);
 }
 
-Patch base_patch(const BaseTopology& topo, std::uint32_t face) {
-    // Faces touching the face's corners or their neighbours (the trim rule
-    // at level 0), collected through the vertex-face lists.
+Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::size_t count,
+                 BasePatchScratch* scratch) {
+    // Faces touching the region's corners or their neighbours (the trim
+    // rule at level 0), collected through the vertex-face lists. Vertices
+    // and faces are deduplicated by stamps when there is scratch (large
+    // regions), else by sorting (a tile's one face).
     const Mesh& mesh = topo.mesh();
-    std::vector<std::uint32_t> near_vertices(mesh.triangles[face].begin(), mesh.triangles[face].end());
-    for (std::uint32_t c : mesh.triangles[face])
-        for (std::uint32_t f : topo.faces_of_vertex(c))
-            for (std::uint32_t v : mesh.triangles[f]) near_vertices.push_back(v);
-    std::sort(near_vertices.begin(), near_vertices.end());
-    near_vertices.erase(std::unique(near_vertices.begin(), near_vertices.end()), near_vertices.end());
+    BasePatchScratch local_scratch;
+    BasePatchScratch& sc = scratch ? *scratch : local_scratch;
+    const bool stamped = scratch != nullptr;
+    if (stamped) {
+        sc.vertex_stamp.resize(mesh.positions.size(), 0);
+        sc.face_stamp.resize(mesh.triangles.size(), 0);
+        sc.local_index.resize(mesh.positions.size(), 0);
+        ++sc.generation;
+    }
+    const auto first_time = [&](std::vector<std::uint32_t>& stamp, std::uint32_t x) {
+        if (stamp[x] == sc.generation) return false;
+        stamp[x] = sc.generation;
+        return true;
+    };
+    std::vector<std::uint32_t> near_vertices;
+    for (std::size_t k = 0; k < count; ++k)
+        for (std::uint32_t c : mesh.triangles[region[k]])
+            for (std::uint32_t f : topo.faces_of_vertex(c))
+                for (std::uint32_t v : mesh.triangles[f])
+                    if (!stamped || first_time(sc.vertex_stamp, v)) near_vertices.push_back(v);
+    if (!stamped) {
+        std::sort(near_vertices.begin(), near_vertices.end());
+        near_vertices.erase(std::unique(near_vertices.begin(), near_vertices.end()), near_vertices.end());
+    }
     std::vector<std::uint32_t> faces;
     for (std::uint32_t v : near_vertices)
-        for (std::uint32_t f : topo.faces_of_vertex(v)) faces.push_back(f);
+        for (std::uint32_t f : topo.faces_of_vertex(v))
+            if (!stamped || first_time(sc.face_stamp, f)) faces.push_back(f);
+    // Ascending faces: records and their split corners come out in face order.
     std::sort(faces.begin(), faces.end());
-    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    if (!stamped) faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
 
     Patch p;
     p.level = 0;
-    std::vector<std::uint32_t> local;  // sorted base vertex ids
-    for (std::uint32_t f : faces)
-        for (std::uint32_t v : mesh.triangles[f]) local.push_back(v);
-    std::sort(local.begin(), local.end());
-    local.erase(std::unique(local.begin(), local.end()), local.end());
+    std::vector<std::uint32_t> local;  // base vertex ids of the patch's vertices
+    if (stamped) {
+        ++sc.generation;  // vertex_stamp now marks the patch's vertices
+        for (std::uint32_t f : faces)
+            for (std::uint32_t v : mesh.triangles[f])
+                if (first_time(sc.vertex_stamp, v)) {
+                    sc.local_index[v] = static_cast<std::uint32_t>(local.size());
+                    local.push_back(v);
+                }
+    } else {
+        for (std::uint32_t f : faces)
+            for (std::uint32_t v : mesh.triangles[f]) local.push_back(v);
+        std::sort(local.begin(), local.end());
+        local.erase(std::unique(local.begin(), local.end()), local.end());
+    }
     p.verts.resize(local.size());
     for (std::size_t k = 0; k < local.size(); ++k) {
         PatchVertex& pv = p.verts[k];
@@ -497,30 +530,12 @@ Patch base_patch(const BaseTopology& topo, std::uint32_t face) {
         PatchTriangle t;
         t.id = Hierarchy::root(f);
         for (int c = 0; c < 3; ++c) {
-            t.v[c] = static_cast<std::uint32_t>(
-                std::lower_bound(local.begin(), local.end(), mesh.triangles[f][c]) - local.begin());
+            const std::uint32_t v = mesh.triangles[f][c];
+            t.v[c] = stamped ? sc.local_index[v]
+                             : static_cast<std::uint32_t>(std::lower_bound(local.begin(), local.end(), v) -
+                                                          local.begin());
         }
         p.tris.push_back(t);
-    }
-    return p;
-}
-
-Patch whole_base_patch(const BaseTopology& topo) {
-    const Mesh& mesh = topo.mesh();
-    Patch p;
-    p.level = 0;
-    p.verts.resize(mesh.positions.size());
-    for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) {
-        p.verts[v].key.kind = VertexKey::base_vertex;
-        p.verts[v].key.a = v;
-        p.verts[v].position = mesh.positions[v];
-        p.verts[v].has_position = true;
-        p.verts[v].true_ring = true_incident_count(topo, p.verts[v].key);
-    }
-    p.tris.resize(mesh.triangles.size());
-    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-        p.tris[f].id = Hierarchy::root(f);
-        p.tris[f].v = mesh.triangles[f];
     }
     return p;
 }

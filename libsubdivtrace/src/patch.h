@@ -139,11 +139,19 @@ private:
     void trim_to(const std::vector<bool>& keep);
 };
 
-/// The level-0 patch around base triangle `face` (not finished).
-Patch base_patch(const BaseTopology& topo, std::uint32_t face);
-
-/// The whole base mesh as one patch (not finished).
-Patch whole_base_patch(const BaseTopology& topo);
+/// The level-0 patch around the `count` base triangles at `region` (not
+/// finished): them, and every base triangle with a vertex at most one ring
+/// from theirs, so their corners and neighbours have whole rings.
+/// Stamps that let base_patch deduplicate a large region's vertices and
+/// faces in linear time; reused across calls (sized to the mesh once).
+struct BasePatchScratch {
+    std::vector<std::uint32_t> vertex_stamp;
+    std::vector<std::uint32_t> face_stamp;
+    std::vector<std::uint32_t> local_index;
+    std::uint32_t generation = 0;
+};
+Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::size_t count,
+                 BasePatchScratch* scratch = nullptr);
 
 /// Orders VertexKeys (any fixed total order serves; this one is cheap).
 inline bool key_less(const VertexKey& x, const VertexKey& y) {

@@ -24,6 +24,8 @@ constexpr double k_rounding_slack = 1e-9;
 /// margin), times the coordinates' magnitude; the shell containment test at
 /// 1e6 from the origin holds it.
 constexpr int k_stencil_rounding_steps = 64 * 17;
+/// Base triangles whose level-0 records are computed from one patch.
+constexpr std::size_t k_root_chunk = 4096;
 
 [[noreturn]] void stencil_cut(const char* what) {
     // The border arithmetic in patch.h guarantees every value a tile reads;
@@ -154,9 +156,10 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch
         frontier_ = Patch::copy_of(*parent_patch,
                                    parent_patch->band([&](const NodeId& id) { return in_tile(id); }));
     } else {
-        Patch p = base_patch(ctx.topo, root.face);
+        Patch p = base_patch(ctx.topo, &root.face, 1);
         p.finish(ctx.topo, ctx.scheme);
         frontier_ = p.subdivide(ctx.topo, ctx.scheme);
+        frontier_.trim([&](const NodeId& id) { return in_tile(id); });
     }
     build_level(1);
 }
@@ -166,10 +169,10 @@ bool Tile::in_tile(const NodeId& id) const {
 }
 
 void Tile::build_level(int j) {
-    // frontier_ is level root.level + j: the records of that level need the
-    // next level's edge points, which also become the next frontier.
+    // frontier_ is level root.level + j, already cut to the tile's triangles
+    // and their border: the records of that level need the next level's edge
+    // points, which also become the next frontier.
     Patch& q = frontier_;
-    q.trim([&](const NodeId& id) { return in_tile(id); });
     q.finish(ctx_->topo, ctx_->scheme);
     const int level = root_.level + j;
     Patch next;
@@ -328,32 +331,48 @@ Shell CompactShell::expand(const Vec3& origin) const {
 }
 
 RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
-    Patch whole = whole_base_patch(ctx.topo);
-    whole.finish(ctx.topo, ctx.scheme);
-    // The next level's positions only: the shells read its edge points (and
-    // Loop's moved corners), never its triangles, which for a large mesh
-    // would be most of the construction's peak memory.
-    Patch next;
-    if (ctx.max_level > 0) next = whole.subdivide(ctx.topo, ctx.scheme, false);
-    // whole_base_patch keeps base vertex ids as local indices.
-    normal_.resize(whole.verts.size());
-    if (ctx.scheme == SchemeKind::loop) draw_.resize(whole.verts.size());
-    shells_.resize(whole.tris.size());
-    for (std::uint32_t f = 0; f < whole.tris.size(); ++f) {
-        const NodeRecord rec = make_record(ctx, whole, &next, f);
-        shells_[f] = CompactShell::from(rec.shell, rec.position[0]);
-        for (int c = 0; c < 3; ++c) {
-            normal_[whole.tris[f].v[c]] = rec.normal[c];
-            if (!draw_.empty()) draw_[whole.tris[f].v[c]] = rec.draw_position[c];
+    const std::size_t face_count = ctx.topo.face_count();
+    const std::size_t vertex_count = mesh_->positions.size();
+    normal_.resize(vertex_count);
+    if (ctx.scheme == SchemeKind::loop) draw_.resize(vertex_count);
+    shells_.resize(face_count);
+    // In chunks of base triangles, each with the border its records read:
+    // the whole mesh at once made the base level's patch most of a large
+    // mesh's construction peak.
+    std::vector<std::uint32_t> region;
+    std::vector<bool> written(vertex_count, false);
+    BasePatchScratch scratch;
+    for (std::size_t first = 0; first < face_count; first += k_root_chunk) {
+        region.clear();
+        for (std::size_t f = first; f < std::min(face_count, first + k_root_chunk); ++f)
+            region.push_back(static_cast<std::uint32_t>(f));
+        Patch p = base_patch(ctx.topo, region.data(), region.size(), &scratch);
+        p.finish(ctx.topo, ctx.scheme);
+        // The next level's positions only: the shells read its edge points
+        // (and Loop's moved corners), never its triangles.
+        Patch next;
+        if (ctx.max_level > 0) next = p.subdivide(ctx.topo, ctx.scheme, false);
+        for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
+            const std::uint32_t f = p.tris[t].id.face;
+            if (f < first || f >= first + region.size()) continue;  // border
+            const NodeRecord rec = make_record(ctx, p, &next, t);
+            shells_[f] = CompactShell::from(rec.shell, rec.position[0]);
+            for (int c = 0; c < 3; ++c) {
+                const std::uint32_t v = p.verts[p.tris[t].v[c]].key.a;
+                if (!written[v]) {
+                    // A vertex keeps the normal of its first corner; where a
+                    // crease splits its normals, the corners that differ are
+                    // kept apart (faces come in order, so slots ascend).
+                    written[v] = true;
+                    normal_[v] = rec.normal[c];
+                    if (!draw_.empty()) draw_[v] = rec.draw_position[c];
+                } else if (rec.normal[c] != normal_[v]) {
+                    split_corners_.push_back({3 * f + static_cast<std::uint32_t>(c), rec.normal[c]});
+                }
+            }
         }
     }
-    // Where a crease splits a vertex's normals, the corners that differ
-    // from the one kept per vertex.
-    for (std::uint32_t f = 0; f < whole.tris.size(); ++f)
-        for (std::uint32_t c = 0; c < 3; ++c) {
-            const Vec3& n = whole.corner_normal[3 * f + c];
-            if (n != normal_[whole.tris[f].v[c]]) split_corners_.push_back({3 * f + c, n});
-        }
+    split_corners_.shrink_to_fit();
     ctx.records_built->fetch_add(shells_.size(), std::memory_order_relaxed);
 }
 

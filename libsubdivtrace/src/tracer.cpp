@@ -104,10 +104,11 @@ std::atomic<std::uint64_t> g_next_surface_id{1};
 /// normals; creases, which split normals mark for every scheme): elsewhere
 /// they would cost 72 bytes per triangle through construction's peak.
 Mesh as_kept(Mesh m, SchemeKind scheme) {
-    const auto creases = detail::crease_masks(m);
-    const bool any_crease =
-        std::any_of(creases.begin(), creases.end(), [](std::uint8_t c) { return c != 0; });
-    if (scheme != SchemeKind::normal && !any_crease) {
+    const auto has_crease = [&] {
+        const auto creases = detail::crease_masks(m);
+        return std::any_of(creases.begin(), creases.end(), [](std::uint8_t c) { return c != 0; });
+    };
+    if (scheme != SchemeKind::normal && m.has_normals() && !has_crease()) {
         m.corner_normals.clear();
         m.corner_normals.shrink_to_fit();
     }
