@@ -10,7 +10,7 @@
 
 namespace subdivtrace::detail {
 
-Vec3 given_normal(const Mesh& mesh, std::uint32_t face, std::uint32_t v) {
+Vec3 given_normal_of(const Mesh& mesh, std::uint32_t face, std::uint32_t v) {
     if (!mesh.has_normals()) return Vec3(0.0);
     const Triangle& t = mesh.triangles[face];
     for (int c = 0; c < 3; ++c)

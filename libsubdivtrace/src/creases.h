@@ -20,7 +20,7 @@ std::vector<std::uint8_t> crease_masks(const Mesh& mesh);
 
 /// The normal the mesh gives at base vertex `v` in triangle `face`
 /// (normalised; zero if the mesh gives none or v is not a corner of face).
-Vec3 given_normal(const Mesh& mesh, std::uint32_t face, std::uint32_t v);
+Vec3 given_normal_of(const Mesh& mesh, std::uint32_t face, std::uint32_t v);
 
 /// Whether base vertices keep their given normals at every level of the
 /// normal scheme (true), or only at level 0 with Gouraud normals from level 1

@@ -4,6 +4,8 @@
 
 #include "creases.h"
 
+#include "subdivtrace/scheme.h"
+
 namespace subdivtrace::detail {
 
 BaseTopology::BaseTopology(const Mesh& mesh) : mesh_(mesh) {
@@ -25,6 +27,22 @@ BaseTopology::BaseTopology(const Mesh& mesh) : mesh_(mesh) {
             closed_ = edge_face_count(t[c], t[(c + 1) % 3]) == 2;
         if (!closed_) break;
     }
+    if (mesh.has_normals()) {
+        given_vertex_.assign(nv, Vec3(0.0));
+        std::vector<bool> seen(nv, false);
+        for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f)
+            for (std::uint32_t c = 0; c < 3; ++c) {
+                const std::uint32_t v = mesh.triangles[f][c];
+                const Vec3 n = given_normal_of(mesh, f, v);
+                if (!seen[v]) {
+                    seen[v] = true;
+                    given_vertex_[v] = n;
+                } else if (n != given_vertex_[v]) {
+                    given_split_.push_back({3 * f + c, n});
+                }
+            }
+        given_split_.shrink_to_fit();
+    }
     crease_mask_ = crease_masks(mesh);
     const bool any_crease = std::any_of(crease_mask_.begin(), crease_mask_.end(),
                                         [](std::uint8_t m) { return m != 0; });
@@ -39,6 +57,20 @@ BaseTopology::BaseTopology(const Mesh& mesh) : mesh_(mesh) {
             if (is_crease(f, e) || edge_face_count(u, w) == 1) on_curve_[u] = on_curve_[w] = 1;
         }
     }
+}
+
+Vec3 BaseTopology::given_normal(std::uint32_t face, std::uint32_t v) const {
+    if (given_vertex_.empty()) return Vec3(0.0);
+    const Triangle& t = mesh_.triangles[face];
+    const std::uint32_t c = t[0] == v ? 0 : (t[1] == v ? 1 : (t[2] == v ? 2 : 3));
+    if (c == 3) return Vec3(0.0);
+    if (!given_split_.empty()) {
+        const std::uint32_t slot = 3 * face + c;
+        const auto it = std::lower_bound(given_split_.begin(), given_split_.end(), slot,
+                                         [](const GivenCorner& g, std::uint32_t s) { return g.slot < s; });
+        if (it != given_split_.end() && it->slot == slot) return it->normal;
+    }
+    return given_vertex_[v];
 }
 
 std::size_t BaseTopology::edge_face_count(std::uint32_t u, std::uint32_t w) const {

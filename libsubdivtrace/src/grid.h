@@ -106,6 +106,13 @@ public:
         return !crease_mask_.empty() && (crease_mask_[face] >> e & 1u) != 0;
     }
     bool has_creases() const { return !crease_mask_.empty(); }
+
+    /// The mesh's own normal at base vertex v in base triangle `face`,
+    /// normalised (zero if the mesh has none, or v is not a corner of face).
+    /// Kept compactly (one per vertex, plus the corners that differ), so the
+    /// mesh's corner normals need not outlive construction.
+    Vec3 given_normal(std::uint32_t face, std::uint32_t v) const;
+    bool has_given_normals() const { return !given_vertex_.empty(); }
     /// True if base vertex v touches a boundary edge (one triangle) or a
     /// crease: only such vertices, and edge points between two of them, can
     /// lie on a curve of the subdivided surface.
@@ -115,7 +122,8 @@ public:
     std::size_t owned_bytes() const {
         return vertex_offset_.capacity() * sizeof(std::uint32_t) +
                vertex_faces_.capacity() * sizeof(std::uint32_t) + crease_mask_.capacity() +
-               on_curve_.capacity();
+               on_curve_.capacity() + given_vertex_.capacity() * sizeof(Vec3) +
+               given_split_.capacity() * sizeof(GivenCorner);
     }
 
 private:
@@ -135,6 +143,12 @@ private:
     bool closed_ = true;
     std::vector<std::uint8_t> crease_mask_;  ///< empty when the mesh has no crease
     std::vector<std::uint8_t> on_curve_;  ///< empty when nothing is on a curve
+    std::vector<Vec3> given_vertex_;      ///< a vertex's first corner's normal
+    struct GivenCorner {
+        std::uint32_t slot;  ///< 3 face + corner, ascending
+        Vec3 normal;
+    };
+    std::vector<GivenCorner> given_split_;  ///< corners whose normal is not their vertex's
 };
 
 /// The grid triangles of resolution n that have grid point (i, j) as a

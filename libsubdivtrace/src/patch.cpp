@@ -172,15 +172,14 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
 
     // One normal per sector: the given normals of a base vertex (normal
     // scheme), else angle-weighted Gouraud over the sector's triangles.
-    const Mesh& mesh = topo.mesh();
-    const bool given = scheme == SchemeKind::normal && mesh.has_normals() &&
+    const bool given = scheme == SchemeKind::normal && topo.has_given_normals() &&
                        pv.key.kind == VertexKey::base_vertex &&
                        (level == 0 || k_given_normals_every_level);
     thread_local std::vector<Vec3> sums;
     sums.assign(sector_count, Vec3(0.0));
     for (std::size_t k = 0; k < pairs.size(); ++k) {
         const SlotPair& pr = pairs[k];
-        const Vec3 g = given ? given_normal(mesh, tris[pr.slot / 3].id.face, pv.key.a) : Vec3(0.0);
+        const Vec3 g = given ? topo.given_normal(tris[pr.slot / 3].id.face, pv.key.a) : Vec3(0.0);
         sums[labels[k]] += g != Vec3(0.0) ? g
                                           : angle_weighted_normal(pv.position, verts[pr.from].position,
                                                                   verts[pr.to].position);

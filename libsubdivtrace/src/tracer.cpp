@@ -15,7 +15,6 @@
 #include <glm/geometric.hpp>
 
 #include "bvh.h"
-#include "creases.h"
 #include "ray_triangle.h"
 #include "subdivtrace/hierarchy.h"
 
@@ -99,19 +98,10 @@ namespace {
 /// confuse a destroyed surface with a new one at the same address.
 std::atomic<std::uint64_t> g_next_surface_id{1};
 
-/// The mesh as the surface keeps it: arrays at their size, and corner
-/// normals only where something reads them (the normal scheme's level-0
-/// normals; creases, which split normals mark for every scheme): elsewhere
-/// they would cost 72 bytes per triangle through construction's peak.
-Mesh as_kept(Mesh m, SchemeKind scheme) {
-    const auto has_crease = [&] {
-        const auto creases = detail::crease_masks(m);
-        return std::any_of(creases.begin(), creases.end(), [](std::uint8_t c) { return c != 0; });
-    };
-    if (scheme != SchemeKind::normal && m.has_normals() && !has_crease()) {
-        m.corner_normals.clear();
-        m.corner_normals.shrink_to_fit();
-    }
+/// The mesh as the surface keeps it: arrays at their size. (Its corner
+/// normals go once the hierarchy has read them: it keeps what it needs of
+/// them compactly, and they would cost 72 bytes per triangle.)
+Mesh as_kept(Mesh m) {
     m.positions.shrink_to_fit();
     m.triangles.shrink_to_fit();
     m.corner_normals.shrink_to_fit();
@@ -124,9 +114,10 @@ Mesh as_kept(Mesh m, SchemeKind scheme) {
 class SurfaceImpl {
 public:
     SurfaceImpl(Mesh m, const SurfaceOptions& o)
-        : mesh(as_kept(std::move(m), o.scheme)),
+        : mesh(as_kept(std::move(m))),
           options(o),
           hierarchy(mesh, o.scheme, o.max_level, o.cache_mb << 20, o.shell_kind) {
+        mesh.corner_normals = std::vector<Vec3>();  // read by the hierarchy's construction only
         std::vector<Vec3> lo, hi;
         for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
             const Shell shell = hierarchy.node(Hierarchy::root(f)).shell;

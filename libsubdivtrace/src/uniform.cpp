@@ -31,7 +31,7 @@ std::vector<Vec3> given_corner_normals(const Mesh& base, const std::vector<Trian
         const auto face = static_cast<std::uint32_t>(t >> (2 * level));
         for (int c = 0; c < 3; ++c)
             if (triangles[t][c] < base.positions.size())
-                given[3 * t + c] = detail::given_normal(base, face, triangles[t][c]);
+                given[3 * t + c] = detail::given_normal_of(base, face, triangles[t][c]);
     }
     return given;
 }
