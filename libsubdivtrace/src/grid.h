@@ -130,10 +130,12 @@ private:
     /// Calls visit(f) for every face on the edge {u, w}, in increasing order.
     template <class Visit>
     void for_each_face_of_edge(std::uint32_t u, std::uint32_t w, Visit visit) const {
-        const std::uint32_t lo = std::min(u, w), hi = std::max(u, w);
-        for (std::uint32_t f : faces_of_vertex(lo)) {
+        // Through the endpoint with fewer faces; both lists ascend.
+        const bool through_u = faces_of_vertex(u).size() <= faces_of_vertex(w).size();
+        const std::uint32_t x = through_u ? u : w, y = through_u ? w : u;
+        for (std::uint32_t f : faces_of_vertex(x)) {
             const Triangle& t = mesh_.triangles[f];
-            if (t[0] == hi || t[1] == hi || t[2] == hi) visit(f);
+            if (t[0] == y || t[1] == y || t[2] == y) visit(f);
         }
     }
 

@@ -252,8 +252,8 @@ int base_edge_under(const NodeId& id, int e) {
 }  // namespace
 
 void Patch::build_edges(const BaseTopology& topo) {
-    // Every edge once, found through the incident triangles of its endpoint
-    // (finish() built them): the triangles on edge (u, w) all meet u.
+    // Every edge once, found through the incident triangles of an endpoint
+    // (finish() built them): the triangles on edge (u, w) all meet both.
     constexpr std::uint32_t k_unset = UINT32_MAX;
     edges.clear();
     tri_edges.assign(3 * tris.size(), k_unset);
@@ -268,14 +268,19 @@ void Patch::build_edges(const BaseTopology& topo) {
             const int base_edge = base_edge_under(tris[t].id, static_cast<int>(e));
             const bool on_base_edge = base_edge >= 0;
             PatchEdge edge;
-            for (std::uint32_t k = incident_offsets[u]; k < incident_offsets[u + 1]; ++k) {
+            // Through the endpoint with fewer triangles (next to a
+            // high-valence vertex, the other one: linear, not quadratic).
+            const bool through_u = incident_offsets[u + 1] - incident_offsets[u] <=
+                                   incident_offsets[w + 1] - incident_offsets[w];
+            const std::uint32_t x = through_u ? u : w, y = through_u ? w : u;
+            for (std::uint32_t k = incident_offsets[x]; k < incident_offsets[x + 1]; ++k) {
                 const std::uint32_t slot = incident_slots[k];
                 const PatchTriangle& other = tris[slot / 3];
                 if (!on_base_edge && other.id.face != tris[t].id.face) continue;
                 const std::uint32_t c = slot % 3;
                 std::uint32_t edge_slot;
-                if (other.v[(c + 1) % 3] == w) edge_slot = slot;                    // u -> w
-                else if (other.v[(c + 2) % 3] == w) edge_slot = slot - c + (c + 2) % 3;  // w -> u
+                if (other.v[(c + 1) % 3] == y) edge_slot = slot;                    // x -> y
+                else if (other.v[(c + 2) % 3] == y) edge_slot = slot - c + (c + 2) % 3;  // y -> x
                 else continue;
                 tri_edges[edge_slot] = id;
                 if (edge.slot_count < 2) edge.slot[edge.slot_count] = edge_slot;
@@ -364,49 +369,25 @@ void Patch::fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, 
 
 Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_triangles) {
     Patch next;
+    if (with_triangles) {
+        next = subdivide_topology(topo);
+    } else {
+        next.level = level + 1;
+        next.verts.resize(verts.size() + edges.size());
+    }
+    compute_positions(scheme, next, nullptr);
+    return next;
+}
+
+Patch Patch::subdivide_topology(const BaseTopology& topo) const {
+    Patch next;
     next.level = level + 1;
     const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
     next.verts.resize(old_count + edges.size());
-
-    // Old vertices: interpolating schemes keep them; Loop moves them.
-    VertexRing ring;
     for (std::uint32_t v = 0; v < old_count; ++v) {
-        const PatchVertex& pv = verts[v];
-        PatchVertex& nv = next.verts[v];
-        nv.key = pv.key;
-        nv.true_ring = pv.true_ring;
-        nv.draw = pv.draw;
-        nv.has_draw = pv.has_draw;
-        if (scheme != SchemeKind::loop) {
-            nv.position = pv.position;
-            nv.has_position = pv.has_position;
-        } else if (derived[v].has_ring) {
-            fill_vertex_ring(v, ring);
-            nv.position = loop_vertex_point(ring);
-            nv.has_position = true;
-        }
-        derived[v].displacement = 0.0;
-        derived[v].has_displacement = derived[v].has_ring;
+        next.verts[v].key = verts[v].key;
+        next.verts[v].true_ring = verts[v].true_ring;
     }
-
-    // Edge points, and the displacement each causes at its endpoints.
-    for (std::uint32_t e = 0; e < edges.size(); ++e) {
-        PatchEdge& edge = edges[e];
-        edge.point = old_count + e;
-        PatchVertex& nv = next.verts[edge.point];
-        if (!edge.valid) {
-            derived[edge.a].has_displacement = false;
-            derived[edge.b].has_displacement = false;
-            continue;
-        }
-        nv.position = edge_point(scheme, edge);
-        nv.has_position = true;
-        const double d = glm::length(nv.position - (verts[edge.a].position + verts[edge.b].position) * 0.5);
-        derived[edge.a].displacement = std::max(derived[edge.a].displacement, d);
-        derived[edge.b].displacement = std::max(derived[edge.b].displacement, d);
-    }
-
-    if (!with_triangles) return next;
     // Each triangle becomes four, in the hierarchy's child order.
     next.tris.resize(4 * tris.size());
     std::vector<bool> keyed(edges.size(), false);
@@ -433,6 +414,51 @@ Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_tr
         }
     }
     return next;
+}
+
+void Patch::compute_positions(SchemeKind scheme, Patch& next, const std::vector<bool>* needed) {
+    const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
+    const auto wanted = [&](std::uint32_t nv) { return needed == nullptr || (*needed)[nv]; };
+
+    // Old vertices: interpolating schemes keep them; Loop moves them.
+    VertexRing ring;
+    for (std::uint32_t v = 0; v < old_count; ++v) {
+        const PatchVertex& pv = verts[v];
+        PatchVertex& nv = next.verts[v];
+        nv.draw = pv.draw;
+        nv.has_draw = pv.has_draw;
+        if (scheme != SchemeKind::loop) {
+            nv.position = pv.position;
+            nv.has_position = pv.has_position;
+        } else if (derived[v].has_ring && wanted(v)) {
+            fill_vertex_ring(v, ring);
+            nv.position = loop_vertex_point(ring);
+            nv.has_position = true;
+        }
+        derived[v].displacement = 0.0;
+        derived[v].has_displacement = derived[v].has_ring;
+    }
+
+    // Edge points, and the displacement each causes at its endpoints. An
+    // edge point the caller does not keep is skipped: its endpoints'
+    // displacement is then only read where all their edges' points are kept
+    // (the region's corners, patch.h).
+    for (std::uint32_t e = 0; e < edges.size(); ++e) {
+        PatchEdge& edge = edges[e];
+        edge.point = old_count + e;
+        PatchVertex& nv = next.verts[edge.point];
+        if (!edge.valid) {
+            derived[edge.a].has_displacement = false;
+            derived[edge.b].has_displacement = false;
+            continue;
+        }
+        if (!wanted(edge.point)) continue;
+        nv.position = edge_point(scheme, edge);
+        nv.has_position = true;
+        const double d = glm::length(nv.position - (verts[edge.a].position + verts[edge.b].position) * 0.5);
+        derived[edge.a].displacement = std::max(derived[edge.a].displacement, d);
+        derived[edge.b].displacement = std::max(derived[edge.b].displacement, d);
+    }
 }
 
 Patch Patch::copy_of(const Patch& src, const std::vector<bool>& keep) {

@@ -124,6 +124,25 @@ public:
     /// (no triangles, no keys): what shells read.
     Patch subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_triangles = true);
 
+    /// As subdivide(), but only the points of the next level's triangles in
+    /// its band(in_region) are computed (the rest of the border is cut next);
+    /// `kept` receives that band, for keep_only() once the caller is done
+    /// with the untrimmed indices.
+    template <class Pred>
+    Patch subdivide_band(const BaseTopology& topo, SchemeKind scheme, Pred in_region,
+                         std::vector<bool>& kept) {
+        Patch next = subdivide_topology(topo);
+        kept = next.band(in_region);
+        std::vector<bool> needed(next.verts.size(), false);
+        for (std::size_t t = 0; t < next.tris.size(); ++t)
+            if (kept[t])
+                for (std::uint32_t v : next.tris[t].v) needed[v] = true;
+        compute_positions(scheme, next, &needed);
+        return next;
+    }
+    /// Keeps the triangles flagged in `keep`, drops the rest.
+    void keep_only(const std::vector<bool>& keep) { trim_to(keep); }
+
     void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
 
     /// Frees rings and edges (finish() and subdivide() rebuild them).
@@ -132,6 +151,8 @@ public:
 
 private:
     void build_edges(const BaseTopology& topo);
+    Patch subdivide_topology(const BaseTopology& topo) const;
+    void compute_positions(SchemeKind scheme, Patch& next, const std::vector<bool>* needed);
     void finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
     Vec3 edge_point(SchemeKind scheme, const PatchEdge& e) const;
     void fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,

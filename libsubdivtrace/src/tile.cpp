@@ -158,8 +158,9 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch
     } else {
         Patch p = base_patch(ctx.topo, &root.face, 1);
         p.finish(ctx.topo, ctx.scheme);
-        frontier_ = p.subdivide(ctx.topo, ctx.scheme);
-        frontier_.trim([&](const NodeId& id) { return in_tile(id); });
+        std::vector<bool> kept;
+        frontier_ = p.subdivide_band(ctx.topo, ctx.scheme, [&](const NodeId& id) { return in_tile(id); }, kept);
+        frontier_.keep_only(kept);
     }
     build_level(1);
 }
@@ -176,7 +177,9 @@ void Tile::build_level(int j) {
     q.finish(ctx_->topo, ctx_->scheme);
     const int level = root_.level + j;
     Patch next;
-    if (level < ctx_->max_level) next = q.subdivide(ctx_->topo, ctx_->scheme);
+    std::vector<bool> kept;
+    const auto in_this_tile = [&](const NodeId& id) { return in_tile(id); };
+    if (level < ctx_->max_level) next = q.subdivide_band(ctx_->topo, ctx_->scheme, in_this_tile, kept);
     TileLevel& out = levels_[j - 1];
     const std::size_t n = std::size_t{1} << j;
     out.position.resize((n + 1) * (n + 2) / 2);
@@ -202,7 +205,7 @@ void Tile::build_level(int j) {
     for (std::size_t k = 0; k < shells.size(); ++k) out.shells[k] = CompactShell::from(shells[k], origin_);
     // Kept, cut to the tile's own triangles and their border: the next
     // level's start, and after the deepest level where child tiles start.
-    next.trim([&](const NodeId& id) { return in_tile(id); });
+    next.keep_only(kept);
     next.drop_derived();
     frontier_ = std::move(next);
     ctx_->records_built->fetch_add(out.shells.size(), std::memory_order_relaxed);
