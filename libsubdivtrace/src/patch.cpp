@@ -85,35 +85,45 @@ bool may_be_on_curve(const BaseTopology& topo, const VertexKey& key) {
     return false;
 }
 
+/// The triangles around v as (from, to, slot), in patch order.
+void unsorted_pairs(const Patch& p, std::uint32_t v, std::vector<SlotPair>& pairs) {
+    pairs.clear();
+    for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
+        const std::uint32_t slot = p.incident_slots[k];
+        const PatchTriangle& t = p.tris[slot / 3];
+        const std::uint32_t c = slot % 3;
+        pairs.push_back({t.v[(c + 1) % 3], t.v[(c + 2) % 3], slot});
+    }
+}
+
+/// The same in the canonical order: sorted by key (then base face, for a
+/// duplicated base triangle), so every patch that holds this whole ring
+/// sums and walks it in the same order.
+void sorted_pairs(const Patch& p, std::uint32_t v, std::vector<SlotPair>& pairs) {
+    unsorted_pairs(p, v, pairs);
+    std::sort(pairs.begin(), pairs.end(), [&](const SlotPair& x, const SlotPair& y) {
+        if (p.verts[x.from].key != p.verts[y.from].key) return key_less(p.verts[x.from].key, p.verts[y.from].key);
+        if (p.verts[x.to].key != p.verts[y.to].key) return key_less(p.verts[x.to].key, p.verts[y.to].key);
+        return p.tris[x.slot / 3].id.face < p.tris[y.slot / 3].id.face;
+    });
+}
+
 }  // namespace
 
 void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v) {
     PatchVertex& pv = verts[v];
     VertexDerived& dv = derived[v];
-    const std::uint32_t first = incident_offsets[v], last = incident_offsets[v + 1];
-    // The canonical order: pairs sorted by key (then base face, for a
-    // duplicated base triangle), so every patch that holds this whole ring
-    // sums and walks it in the same order.
+    const bool on_curve = may_be_on_curve(topo, pv.key);
+    // Loop's and Butterfly's rings are walked in the canonical order; curves
+    // and sectors do not depend on it.
     thread_local std::vector<SlotPair> pairs;
-    pairs.clear();
-    for (std::uint32_t k = first; k < last; ++k) {
-        const std::uint32_t slot = incident_slots[k];
-        const PatchTriangle& t = tris[slot / 3];
-        const std::uint32_t c = slot % 3;
-        pairs.push_back({t.v[(c + 1) % 3], t.v[(c + 2) % 3], slot});
-    }
-    std::sort(pairs.begin(), pairs.end(), [&](const SlotPair& x, const SlotPair& y) {
-        if (verts[x.from].key != verts[y.from].key) return key_less(verts[x.from].key, verts[y.from].key);
-        if (verts[x.to].key != verts[y.to].key) return key_less(verts[x.to].key, verts[y.to].key);
-        return tris[x.slot / 3].id.face < tris[y.slot / 3].id.face;
-    });
+    if (scheme != SchemeKind::normal) sorted_pairs(*this, v, pairs);
+    else if (on_curve) unsorted_pairs(*this, v, pairs);
 
     // Curves and sectors, where a boundary or crease can pass.
-    thread_local std::vector<std::uint32_t> labels;
-    std::uint32_t sector_count = 1;
-    labels.assign(pairs.size(), 0);
-    if (may_be_on_curve(topo, pv.key)) {
+    if (on_curve) {
         thread_local std::vector<FanCorner> corners;
+        thread_local std::vector<std::uint32_t> labels;
         corners.clear();
         std::uint32_t curve_edges[3] = {0, 0, 0};
         int curve_count = 0;
@@ -139,8 +149,7 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
             }
             if (key_less(verts[dv.curve[1]].key, verts[dv.curve[0]].key)) std::swap(dv.curve[0], dv.curve[1]);
         }
-        sector_count = label_sectors(corners, labels);
-        dv.single_sector = sector_count == 1;
+        dv.single_sector = label_sectors(corners, labels) == 1;
     }
 
     if (scheme != SchemeKind::normal) {
@@ -169,24 +178,6 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
             ring_curve.push_back(curve ? 1 : 0);
         }
     }
-
-    // One normal per sector: the given normals of a base vertex (normal
-    // scheme), else angle-weighted Gouraud over the sector's triangles.
-    const bool given = scheme == SchemeKind::normal && topo.has_given_normals() &&
-                       pv.key.kind == VertexKey::base_vertex &&
-                       (level == 0 || k_given_normals_every_level);
-    thread_local std::vector<Vec3> sums;
-    sums.assign(sector_count, Vec3(0.0));
-    for (std::size_t k = 0; k < pairs.size(); ++k) {
-        const SlotPair& pr = pairs[k];
-        const Vec3 g = given ? topo.given_normal(tris[pr.slot / 3].id.face, pv.key.a) : Vec3(0.0);
-        sums[labels[k]] += g != Vec3(0.0) ? g
-                                          : angle_weighted_normal(pv.position, verts[pr.from].position,
-                                                                  verts[pr.to].position);
-    }
-    for (Vec3& sum : sums) sum = finish_normal(sum);
-    for (std::size_t k = 0; k < pairs.size(); ++k) corner_normal[pairs[k].slot] = sums[labels[k]];
-    dv.has_normal = true;
 
     if (scheme == SchemeKind::loop && pv.key.level == level) {
         // Loop draws a vertex at its limit point, from its birth-level ring.
@@ -367,6 +358,47 @@ void Patch::fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, 
     }
 }
 
+void Patch::ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v) {
+    VertexDerived& dv = derived[v];
+    if (dv.has_normal || !dv.has_ring) return;
+    const PatchVertex& pv = verts[v];
+    // One normal per sector, summed in the canonical order.
+    thread_local std::vector<SlotPair> pairs;
+    sorted_pairs(*this, v, pairs);
+    thread_local std::vector<std::uint32_t> labels;
+    std::uint32_t sector_count = 1;
+    labels.assign(pairs.size(), 0);
+    if (!dv.single_sector) {
+        thread_local std::vector<FanCorner> corners;
+        corners.clear();
+        for (const SlotPair& pr : pairs) {
+            const std::uint32_t c = pr.slot % 3;
+            const std::uint32_t e_next = tri_edges[pr.slot];
+            const std::uint32_t e_prev = tri_edges[pr.slot - c + (c + 2) % 3];
+            corners.push_back({e_prev, e_next, edges[e_prev].curve, edges[e_next].curve});
+        }
+        sector_count = label_sectors(corners, labels);
+    }
+
+    // The given normals of a base vertex (normal scheme, level 0), else
+    // angle-weighted Gouraud over the sector's triangles.
+    const bool given = scheme == SchemeKind::normal && topo.has_given_normals() &&
+                       pv.key.kind == VertexKey::base_vertex &&
+                       (level == 0 || k_given_normals_every_level);
+    thread_local std::vector<Vec3> sums;
+    sums.assign(sector_count, Vec3(0.0));
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const SlotPair& pr = pairs[k];
+        const Vec3 g = given ? topo.given_normal(tris[pr.slot / 3].id.face, pv.key.a) : Vec3(0.0);
+        sums[labels[k]] += g != Vec3(0.0) ? g
+                                          : angle_weighted_normal(pv.position, verts[pr.from].position,
+                                                                  verts[pr.to].position);
+    }
+    for (Vec3& sum : sums) sum = finish_normal(sum);
+    for (std::size_t k = 0; k < pairs.size(); ++k) corner_normal[pairs[k].slot] = sums[labels[k]];
+    dv.has_normal = true;
+}
+
 Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_triangles) {
     Patch next;
     if (with_triangles) {
@@ -375,7 +407,7 @@ Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_tr
         next.level = level + 1;
         next.verts.resize(verts.size() + edges.size());
     }
-    compute_positions(scheme, next, nullptr);
+    compute_positions(topo, scheme, next, nullptr);
     return next;
 }
 
@@ -416,7 +448,8 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
     return next;
 }
 
-void Patch::compute_positions(SchemeKind scheme, Patch& next, const std::vector<bool>* needed) {
+void Patch::compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch& next,
+                              const std::vector<bool>* needed) {
     const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
     const auto wanted = [&](std::uint32_t nv) { return needed == nullptr || (*needed)[nv]; };
 
@@ -453,6 +486,10 @@ void Patch::compute_positions(SchemeKind scheme, Patch& next, const std::vector<
             continue;
         }
         if (!wanted(edge.point)) continue;
+        if (scheme == SchemeKind::normal) {
+            ensure_normal(topo, scheme, edge.a);
+            ensure_normal(topo, scheme, edge.b);
+        }
         nv.position = edge_point(scheme, edge);
         nv.has_position = true;
         const double d = glm::length(nv.position - (verts[edge.a].position + verts[edge.b].position) * 0.5);

@@ -137,13 +137,18 @@ public:
         for (std::size_t t = 0; t < next.tris.size(); ++t)
             if (kept[t])
                 for (std::uint32_t v : next.tris[t].v) needed[v] = true;
-        compute_positions(scheme, next, &needed);
+        compute_positions(topo, scheme, next, &needed);
         return next;
     }
     /// Keeps the triangles flagged in `keep`, drops the rest.
     void keep_only(const std::vector<bool>& keep) { trim_to(keep); }
 
     void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
+
+    /// Computes v's corner normals (corner_normal, has_normal) if it has a
+    /// whole ring and they are not computed yet: finish() leaves them to
+    /// the first reader, as most of a patch's border never needs them.
+    void ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
 
     /// Frees rings and edges (finish() and subdivide() rebuild them).
     void drop_derived();
@@ -152,7 +157,8 @@ public:
 private:
     void build_edges(const BaseTopology& topo);
     Patch subdivide_topology(const BaseTopology& topo) const;
-    void compute_positions(SchemeKind scheme, Patch& next, const std::vector<bool>* needed);
+    void compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch& next,
+                           const std::vector<bool>* needed);
     void finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
     Vec3 edge_point(SchemeKind scheme, const PatchEdge& e) const;
     void fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,

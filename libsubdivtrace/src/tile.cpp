@@ -190,6 +190,7 @@ void Tile::build_level(int j) {
     for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
         const PatchTriangle& tri = q.tris[t];
         if (!in_tile(tri.id)) continue;
+        for (std::uint32_t v : tri.v) q.ensure_normal(ctx_->topo, ctx_->scheme, v);
         const NodeRecord rec = make_record(*ctx_, q, &next, t);
         shells[index_in_level(tri.id)] = rec.shell;
         const auto grid = node_corner_grid(tri.id);
@@ -358,6 +359,7 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
         for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
             const std::uint32_t f = p.tris[t].id.face;
             if (f < first || f >= first + region.size()) continue;  // border
+            for (std::uint32_t v : p.tris[t].v) p.ensure_normal(ctx.topo, ctx.scheme, v);
             const NodeRecord rec = make_record(ctx, p, &next, t);
             shells_[f] = CompactShell::from(rec.shell, rec.position[0]);
             for (int c = 0; c < 3; ++c) {
