@@ -116,9 +116,12 @@ private:
 
 }  // namespace
 
-Mesh icosphere(int subdivisions) {
-    Mesh m = icosahedron();
-    for (int level = 0; level < subdivisions; ++level) {
+namespace {
+
+/// Splits every triangle 1-to-4 `times` times, projecting each new point
+/// onto the unit sphere (children in uniform.h's order).
+void split_onto_sphere(Mesh& m, int times) {
+    for (int level = 0; level < times; ++level) {
         std::map<std::uint64_t, std::uint32_t> mid;
         auto midpoint = [&](std::uint32_t u, std::uint32_t w) {
             const auto [it, inserted] =
@@ -139,6 +142,13 @@ Mesh icosphere(int subdivisions) {
         }
         m.triangles.swap(next);
     }
+}
+
+}  // namespace
+
+Mesh icosphere(int subdivisions) {
+    Mesh m = icosahedron();
+    split_onto_sphere(m, subdivisions);
     return m;
 }
 
@@ -293,21 +303,7 @@ Mesh octasphere_half(int subdivisions, bool upper) {
     Mesh m;
     m.positions = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
     m.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
-    for (int level = 0; level < subdivisions; ++level) {
-        std::map<std::uint64_t, std::uint32_t> mid;
-        auto midpoint = [&](std::uint32_t u, std::uint32_t w) {
-            const auto [it, inserted] =
-                mid.emplace(edge_key(u, w), static_cast<std::uint32_t>(m.positions.size()));
-            if (inserted) m.positions.push_back(glm::normalize(m.positions[u] + m.positions[w]));
-            return it->second;
-        };
-        std::vector<Triangle> next;
-        for (const Triangle& t : m.triangles) {
-            const std::uint32_t ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
-            next.insert(next.end(), {{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {ab, bc, ca}});
-        }
-        m.triangles.swap(next);
-    }
+    split_onto_sphere(m, subdivisions);
     // Keep one half; renumber its vertices in order of first use.
     Mesh half;
     std::vector<std::uint32_t> remap(m.positions.size(), UINT32_MAX);
