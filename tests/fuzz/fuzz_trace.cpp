@@ -1,6 +1,8 @@
 // libFuzzer harness of the tracer: random small meshes (closed star-shaped
-// ones around a known inside point, or arbitrary triangles) traced with random
-// rays in every scheme. Invariants (DESIGN.md sections 5, 6 and 9):
+// ones around a known inside point, or arbitrary triangles), without normals,
+// with smooth ones, faceted ones (every edge a crease) or random ones per
+// corner (creases anywhere, zero normals included), traced with random rays
+// in every scheme. Invariants (DESIGN.md sections 5, 6 and 9):
 //   - every hit is finite, within (t_min, t_max), with a unit normal;
 //   - every hit point lies within the surface's bounds() (grown by its error bound);
 //   - all hits are sorted and as finite as the nearest one;
@@ -125,6 +127,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     o.cache_mb = 4;
     o.view.pixel_angle = in.ConsumeFloatingPointInRange(1e-3, 0.1);
     o.view.camera = offset + unit_direction(in) * (3.0 * scale);
+
+    // Normals per corner: given normals are the normal scheme's level 0, and
+    // split ones mark creases for every scheme (docs/schemes.md).
+    const int normals = in.ConsumeIntegralInRange(0, 3);
+    for (std::size_t t = 0; normals > 0 && t < mesh.triangles.size(); ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        const Vec3 face = glm::cross(mesh.positions[tri[1]] - mesh.positions[tri[0]],
+                                     mesh.positions[tri[2]] - mesh.positions[tri[0]]);
+        for (std::uint32_t v : tri) {
+            if (normals == 1) mesh.corner_normals.push_back(mesh.positions[v] - offset);
+            else if (normals == 2) mesh.corner_normals.push_back(face);
+            else mesh.corner_normals.push_back(in.ConsumeBool() ? Vec3(0.0) : unit_direction(in));
+        }
+    }
     const AdaptiveSurface surface(mesh, o);
     const Bounds3 b = surface.bounds();
     if (!finite(b.lo) || !finite(b.hi)) broken("bounds() not finite");
