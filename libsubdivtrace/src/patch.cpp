@@ -58,6 +58,7 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     ring_nbrs.clear();
     ring_curve.clear();
     corner_normal.assign(3 * tris.size(), Vec3(0.0));
+    corner_sector.assign(3 * tris.size(), 0);
     for (std::uint32_t v = 0; v < n; ++v)
         if (derived[v].has_ring) finish_vertex(topo, scheme, v);
     if (scheme != SchemeKind::loop) {
@@ -150,6 +151,9 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
             if (key_less(verts[dv.curve[1]].key, verts[dv.curve[0]].key)) std::swap(dv.curve[0], dv.curve[1]);
         }
         dv.single_sector = label_sectors(corners, labels) == 1;
+        if (!dv.single_sector)
+            for (std::size_t k = 0; k < pairs.size(); ++k)
+                corner_sector[pairs[k].slot] = static_cast<std::uint8_t>(std::min<std::uint32_t>(labels[k], 255));
     }
 
     if (scheme != SchemeKind::normal) {
@@ -204,6 +208,7 @@ void Patch::fill_vertex_ring(std::uint32_t v, VertexRing& ring) const {
 void Patch::drop_derived() {
     derived = {};
     corner_normal = {};
+    corner_sector = {};
     rings = {};
     ring_nbrs = {};
     ring_curve = {};
@@ -218,6 +223,7 @@ void Patch::drop_derived() {
 std::size_t Patch::owned_bytes() const {
     return verts.capacity() * sizeof(PatchVertex) + tris.capacity() * sizeof(PatchTriangle) +
            derived.capacity() * sizeof(VertexDerived) + corner_normal.capacity() * sizeof(Vec3) +
+           corner_sector.capacity() +
            rings.capacity() * sizeof(Ring) + ring_nbrs.capacity() * sizeof(std::uint32_t) +
            ring_curve.capacity() +
            (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +

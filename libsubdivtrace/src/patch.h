@@ -78,6 +78,9 @@ public:
     /// vertex has_normal): the scheme's normal of the vertex in the sector of
     /// triangle t.
     std::vector<Vec3> corner_normal;
+    /// Sector of each corner slot among its vertex's sectors (0 where a
+    /// vertex has one), after finish().
+    std::vector<std::uint8_t> corner_sector;
 
     /// Ordered (canonical) ring of vertex v: valid after finish() for
     /// vertices with has_ring.

@@ -68,10 +68,16 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
             // its corners' 1-rings one level down. Over the four children
             // those rings are the corners' new positions and the edge points
             // of every edge at a corner: half the reach of this level's rings.
-            for (std::uint32_t v : tri.v) {
+            // Across a crease nothing is read (its rules use the crease and
+            // one side), so only the corner's sector that holds the node counts.
+            for (int c = 0; c < 3; ++c) {
+                const std::uint32_t v = tri.v[c];
+                const bool one_sector = p.derived[v].single_sector;
+                const std::uint8_t sector = p.corner_sector[3 * t + c];
                 shell.grow_both(next->verts[v].position);
                 for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
                     const std::uint32_t slot = p.incident_slots[k];
+                    if (!one_sector && p.corner_sector[slot] != sector) continue;
                     const std::uint32_t first = slot - slot % 3;
                     for (std::uint32_t e : {slot, first + (slot % 3 + 2) % 3}) {
                         const PatchEdge& edge = p.edges[p.tri_edges[e]];

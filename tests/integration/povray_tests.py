@@ -971,6 +971,25 @@ def test_faceted_cube_equals_mesh2(ctx):
         assert_close("faceted cube, %s level 4 vs mesh2" % scheme, a, b, SAME_FRACTION, SAME_MEAN)
 
 
+def test_csg_faceted_cube(ctx):
+    """CSG with a refined creased surface: the faceted cube at level 4 (its
+    subdivided triangles all lie on the cube) in a difference and a
+    transparent merge with a sphere gives mesh2's picture, so all-hits and
+    the inside test hold on a refined surface with creases."""
+    other = "sphere { <0.7, 0.6, -0.8>, 0.9 }"
+    xform = "rotate <25, 35, 0>"
+    for op, mat in (("difference", "pigment { rgb <0.9, 0.6, 0.3> } finish { specular 0.3 }"),
+                    ("merge", "pigment { rgbf <0.9, 0.6, 0.3, 0.6> } finish { specular 0.3 }")):
+        native = SCENE_HEADER + "%s { mesh2 { %s inside_vector <0.3, 0.5, 0.81> } %s %s %s }\n" % (
+            op, faceted_cube_body(), other, mat, xform)
+        _, _, a, _ = ctx.render("native_cube_" + op, native)
+        for scheme in ("normal", "loop"):
+            subdiv = SCENE_HEADER + ("%s { subdivision_mesh { mesh2 { %s } scheme %s max_level 4 tolerance 0.25 } "
+                                     "%s %s %s }\n" % (op, faceted_cube_body(), scheme, other, mat, xform))
+            _, err, b, _ = ctx.render("subdiv_cube_%s_%s" % (op, scheme), subdiv)
+            print("  %s %s: deepest level %s" % (op, scheme, deepest_level(err)))
+            assert_close("faceted cube %s, %s level 4 vs mesh2" % (op, scheme), a, b, SAME_FRACTION, SAME_MEAN)
+
 def test_creased_textured_cylinder(ctx):
     """scenes/creased_mesh2.pov's mesh (creased rims, texture_list blended on
     the sides, one texture per cap face): at max_level 0 the same picture as
@@ -1090,6 +1109,7 @@ TESTS = {
     "weld_patch_split_sphere": test_weld_patch_split_sphere,
     "weld_uv_seams_equal_mesh2": test_weld_uv_seams_equal_mesh2,
     "faceted_cube_equals_mesh2": test_faceted_cube_equals_mesh2,
+    "csg_faceted_cube": test_csg_faceted_cube,
     "creased_textured_cylinder": test_creased_textured_cylinder,
     "loop_warns_given_normals": test_loop_warns_given_normals,
 }

@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 
 #include <glm/geometric.hpp>
 
 #include "creases.h"
 #include "subdivtrace/hierarchy.h"
+#include "subdivtrace/tracer.h"
 #include "subdivtrace/uniform.h"
 #include "test_meshes.h"
 
@@ -317,5 +319,32 @@ TEST_CASE("print given normals kept at every level against level 0 only", "[.][g
                         every_level ? "every level" : "level 0 only", radial, centroid,
                         dihedral * 180.0 / k_pi);
         }
+    }
+}
+
+TEST_CASE("inside() of a refined faceted cube is the cube, every scheme", "[creases][tracer]") {
+    // The cube stays a cube at every level, so the parity test has an exact
+    // answer: inside iff max(|x|, |y|, |z|) < 1 (points kept 1e-3 off faces).
+    const Mesh cube = testmesh::faceted_cube();
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1.6, 1.6);
+    for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
+        SurfaceOptions o;
+        o.scheme = scheme;
+        o.max_level = 4;
+        o.tolerance = 0.25;
+        o.view.pixel_angle = 1e-3;
+        o.view.camera = Vec3(3.0, 2.0, -4.0);
+        const AdaptiveSurface surface(cube, o);
+        int wrong = 0, tested = 0;
+        for (int k = 0; k < 400; ++k) {
+            const Vec3 p(u(rng), u(rng), u(rng));
+            const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+            if (std::abs(m - 1.0) < 1e-3) continue;
+            ++tested;
+            if (surface.inside(p) != (m < 1.0)) ++wrong;
+        }
+        INFO(scheme_name(scheme) << ": " << wrong << " of " << tested << " points wrong");
+        CHECK(wrong == 0);
     }
 }
