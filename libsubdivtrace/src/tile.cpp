@@ -12,11 +12,12 @@ namespace subdivtrace::detail {
 namespace {
 
 /// Descendants of an interpolating scheme's node stay within this many times
-/// the largest edge-point displacement of its neighbourhood from the flat
-/// triangle (a geometric series of ratio <= 1/2 sums to 2x; docs/tracer.md
-/// section 2 has the measured ratios). tests/unit/test_shells.cpp holds it
-/// to containment.
-constexpr double k_displacement_factor = 2.0;
+/// the largest edge-point displacement of its neighbourhood from the hull of
+/// its corners and its three edge points: those points are the first term of
+/// the geometric series, so the rest, with ratio <= 1/2, sums to at most 1x
+/// (docs/tracer.md section 2 has the measured ratios, 1/2.7 .. 1/3.7: about
+/// 0.6x). tests/unit/test_shells.cpp holds it to containment.
+constexpr double k_displacement_factor = 1.0;
 /// Relative slack for rounding in the stencils, times the node's extent.
 constexpr double k_rounding_slack = 1e-9;
 /// Rounding steps allowed per coordinate between a base vertex and any
