@@ -153,7 +153,7 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
         dv.single_sector = label_sectors(corners, labels) == 1;
         if (!dv.single_sector)
             for (std::size_t k = 0; k < pairs.size(); ++k)
-                corner_sector[pairs[k].slot] = static_cast<std::uint8_t>(std::min<std::uint32_t>(labels[k], 255));
+                corner_sector[pairs[k].slot] = static_cast<std::uint16_t>(labels[k]);
     }
 
     if (scheme != SchemeKind::normal) {
@@ -223,7 +223,7 @@ void Patch::drop_derived() {
 std::size_t Patch::owned_bytes() const {
     return verts.capacity() * sizeof(PatchVertex) + tris.capacity() * sizeof(PatchTriangle) +
            derived.capacity() * sizeof(VertexDerived) + corner_normal.capacity() * sizeof(Vec3) +
-           corner_sector.capacity() +
+           corner_sector.capacity() * sizeof(std::uint16_t) +
            rings.capacity() * sizeof(Ring) + ring_nbrs.capacity() * sizeof(std::uint32_t) +
            ring_curve.capacity() +
            (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +
@@ -371,20 +371,10 @@ void Patch::ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint
     // One normal per sector, summed in the canonical order.
     thread_local std::vector<SlotPair> pairs;
     sorted_pairs(*this, v, pairs);
-    thread_local std::vector<std::uint32_t> labels;
+    // Sectors as finish_vertex() labelled them (all 0 for one sector).
     std::uint32_t sector_count = 1;
-    labels.assign(pairs.size(), 0);
-    if (!dv.single_sector) {
-        thread_local std::vector<FanCorner> corners;
-        corners.clear();
-        for (const SlotPair& pr : pairs) {
-            const std::uint32_t c = pr.slot % 3;
-            const std::uint32_t e_next = tri_edges[pr.slot];
-            const std::uint32_t e_prev = tri_edges[pr.slot - c + (c + 2) % 3];
-            corners.push_back({e_prev, e_next, edges[e_prev].curve, edges[e_next].curve});
-        }
-        sector_count = label_sectors(corners, labels);
-    }
+    for (const SlotPair& pr : pairs)
+        sector_count = std::max<std::uint32_t>(sector_count, corner_sector[pr.slot] + 1u);
 
     // The given normals of a base vertex (normal scheme, level 0), else
     // angle-weighted Gouraud over the sector's triangles.
@@ -396,12 +386,12 @@ void Patch::ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint
     for (std::size_t k = 0; k < pairs.size(); ++k) {
         const SlotPair& pr = pairs[k];
         const Vec3 g = given ? topo.given_normal(tris[pr.slot / 3].id.face, pv.key.a) : Vec3(0.0);
-        sums[labels[k]] += g != Vec3(0.0) ? g
+        sums[corner_sector[pr.slot]] += g != Vec3(0.0) ? g
                                           : angle_weighted_normal(pv.position, verts[pr.from].position,
                                                                   verts[pr.to].position);
     }
     for (Vec3& sum : sums) sum = finish_normal(sum);
-    for (std::size_t k = 0; k < pairs.size(); ++k) corner_normal[pairs[k].slot] = sums[labels[k]];
+    for (const SlotPair& pr : pairs) corner_normal[pr.slot] = sums[corner_sector[pr.slot]];
     dv.has_normal = true;
 }
 

@@ -79,8 +79,9 @@ public:
     /// triangle t.
     std::vector<Vec3> corner_normal;
     /// Sector of each corner slot among its vertex's sectors (0 where a
-    /// vertex has one), after finish().
-    std::vector<std::uint8_t> corner_sector;
+    /// vertex has one), after finish(). A whole ring has fewer than 65535
+    /// triangles (true_ring saturates there), so 16 bits hold every label.
+    std::vector<std::uint16_t> corner_sector;
 
     /// Ordered (canonical) ring of vertex v: valid after finish() for
     /// vertices with has_ring.

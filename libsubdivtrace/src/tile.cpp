@@ -74,7 +74,7 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
             for (int c = 0; c < 3; ++c) {
                 const std::uint32_t v = tri.v[c];
                 const bool one_sector = p.derived[v].single_sector;
-                const std::uint8_t sector = p.corner_sector[3 * t + c];
+                const std::uint16_t sector = p.corner_sector[3 * t + c];
                 shell.grow_both(next->verts[v].position);
                 for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
                     const std::uint32_t slot = p.incident_slots[k];
