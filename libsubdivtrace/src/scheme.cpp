@@ -202,10 +202,6 @@ Vec3 edge_point(SchemeKind kind, const EdgeStencil& s) {
     return (s.a + s.b) * 0.5;
 }
 
-Vec3 vertex_point(SchemeKind kind, const VertexRing& ring) {
-    return kind == SchemeKind::loop ? loop_vertex_point(ring) : ring.center;
-}
-
 Vec3 angle_weighted_normal(const Vec3& p, const Vec3& q, const Vec3& r) {
     const Vec3 e1 = q - p;
     const Vec3 e2 = r - p;

@@ -35,11 +35,72 @@ constexpr std::size_t k_root_chunk = 4096;
                            " outside the patch's complete region");
 }
 
+float round_up(double x);
+
+/// Loop's limit normal at a vertex whose ring is one closed fan (Halstead,
+/// Kass and DeRose 1993: the tangent masks cos(2 pi k / n), sin(2 pi k / n)
+/// over the ordered ring, centre weight 0). False where no such mask applies
+/// (open or irregular rings, creases, curve vertices).
+bool loop_limit_normal(const Patch& p, std::uint32_t v, Vec3& normal) {
+    const VertexDerived& d = p.derived[v];
+    const Patch::Ring& r = p.rings[v];
+    if (!d.has_ring || !d.single_sector || d.curve_count != 0 || !r.closed || !r.regular ||
+        r.count < 3)
+        return false;
+    constexpr double k_two_pi = 6.283185307179586476925;
+    Vec3 t1(0.0), t2(0.0);
+    for (std::uint32_t k = 0; k < r.count; ++k) {
+        const double a = k_two_pi * k / r.count;
+        const Vec3& q = p.verts[p.ring_nbrs[r.offset + k]].position;
+        t1 += std::cos(a) * q;
+        t2 += std::sin(a) * q;
+    }
+    normal = finish_normal(glm::cross(t1, t2));
+    return normal != Vec3(0.0);
+}
+
+/// The normal a leaf shades corner c of triangle t with (NodeRecord::shading_normal):
+/// closer to the limit surface's than the level's own Gouraud normal, so a leaf
+/// that stops early does not shade as a coarse mesh would.
+Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch* next, std::uint32_t t,
+                    int c) {
+    const Vec3 own = p.corner_normal[3 * t + c];
+    const PatchTriangle& tri = p.tris[t];
+    if (!next || tri.id.level >= ctx.max_level) return own;
+    // The user's normals are what the user wants shaded.
+    if (ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals() && p.level == 0) return own;
+    const std::uint32_t v = tri.v[c];
+    Vec3 limit;
+    if (ctx.scheme == SchemeKind::loop && loop_limit_normal(p, v, limit))
+        return glm::dot(limit, own) < 0.0 ? -limit : limit;
+    // One level down: the corner's triangles there are (v, edge point, edge
+    // point) for each of its triangles in the corner's sector.
+    const bool one_sector = p.derived[v].single_sector;
+    const std::uint16_t sector = p.corner_sector[3 * t + c];
+    const Vec3 centre = next->verts[v].position;
+    Vec3 sum(0.0);
+    for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
+        const std::uint32_t slot = p.incident_slots[k];
+        if (!one_sector && p.corner_sector[slot] != sector) continue;
+        const std::uint32_t first = slot - slot % 3;
+        const PatchEdge& out = p.edges[p.tri_edges[slot]];
+        const PatchEdge& in = p.edges[p.tri_edges[first + (slot % 3 + 2) % 3]];
+        if (!out.valid || !in.valid) stencil_cut("an edge point next to a corner");
+        sum += angle_weighted_normal(centre, next->verts[out.point].position,
+                                     next->verts[in.point].position);
+    }
+    const Vec3 n = finish_normal(sum);
+    return n == Vec3(0.0) ? own : n;
+}
+
 /// Record of triangle t of patch p (level L), with `next` the patch p
 /// subdivided once (untrimmed; only read when L < max_level).
 NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next, std::uint32_t t) {
     const PatchTriangle& tri = p.tris[t];
     NodeRecord rec;
+    // At max_level too (the tile computes the next level's points for it):
+    // the displacement tells whether the rule would have gone further.
+    const bool refinable = next != nullptr;
     for (int c = 0; c < 3; ++c) {
         const PatchVertex& v = p.verts[tri.v[c]];
         const VertexDerived& d = p.derived[tri.v[c]];
@@ -47,6 +108,9 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
         rec.position[c] = v.position;
         rec.normal[c] = p.corner_normal[3 * t + c];
         rec.draw_position[c] = v.draw;
+        rec.shading_normal[c] = shading_normal(ctx, p, next, t, c);
+        if (refinable && !d.has_displacement) stencil_cut("an edge point next to a corner");
+        rec.displacement[c] = refinable ? round_up(d.displacement) : 0.0f;
     }
 
     // Slab axis: the node's own plane (or its corners' mean normal if it is degenerate).
@@ -186,11 +250,19 @@ void Tile::build_level(int j) {
     Patch next;
     std::vector<bool> kept;
     const auto in_this_tile = [&](const NodeId& id) { return in_tile(id); };
-    if (level < ctx_->max_level) next = q.subdivide_band(ctx_->topo, ctx_->scheme, in_this_tile, kept);
+    if (level < ctx_->max_level) {
+        next = q.subdivide_band(ctx_->topo, ctx_->scheme, in_this_tile, kept);
+    } else {
+        // The next level's points only, for the corners' displacement: what
+        // tells a leaf at max_level that the rule would have refined it.
+        next = q.subdivide(ctx_->topo, ctx_->scheme, false);
+    }
     TileLevel& out = levels_[j - 1];
     const std::size_t n = std::size_t{1} << j;
     out.position.resize((n + 1) * (n + 2) / 2);
     out.normal.resize(out.position.size());
+    out.shading.resize(out.position.size());
+    out.displacement.resize(out.position.size());
     if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.position.size());
     out.shells.resize(n * n);
     std::vector<Shell> shells(n * n);
@@ -205,6 +277,8 @@ void Tile::build_level(int j) {
             const std::size_t v = vertex_index(tri.id, grid[c][0], grid[c][1]);
             out.position[v] = rec.position[c];
             out.normal[v] = rec.normal[c];
+            out.shading[v] = glm::vec3(rec.shading_normal[c]);
+            out.displacement[v] = rec.displacement[c];
             if (!out.draw.empty()) out.draw[v] = rec.draw_position[c];
         }
     }
@@ -213,9 +287,13 @@ void Tile::build_level(int j) {
     for (std::size_t k = 0; k < shells.size(); ++k) out.shells[k] = CompactShell::from(shells[k], origin_);
     // Kept, cut to the tile's own triangles and their border: the next
     // level's start, and after the deepest level where child tiles start.
-    next.keep_only(kept);
-    next.drop_derived();
-    frontier_ = std::move(next);
+    if (level < ctx_->max_level) {
+        next.keep_only(kept);
+        next.drop_derived();
+        frontier_ = std::move(next);
+    } else {
+        frontier_ = Patch();
+    }
     ctx_->records_built->fetch_add(out.shells.size(), std::memory_order_relaxed);
     ready_.store(j, std::memory_order_release);
 }
@@ -250,6 +328,8 @@ void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const 
             const std::size_t v = map[k].is_edge ? mid[map[k].index] : corner[map[k].index];
             rec.position[k] = level.position[v];
             rec.normal[k] = level.normal[v];
+            rec.shading_normal[k] = Vec3(level.shading[v]);
+            rec.displacement[k] = level.displacement[v];
             rec.draw_position[k] = level.draw.empty() ? level.position[v] : level.draw[v];
         }
         rec.shell = level.shells[index_in_level(child)].expand(origin_);
@@ -263,6 +343,8 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
         const std::size_t v = vertex_index(id, grid[c][0], grid[c][1]);
         rec.position[c] = level.position[v];
         rec.normal[c] = level.normal[v];
+        rec.shading_normal[c] = Vec3(level.shading[v]);
+        rec.displacement[c] = level.displacement[v];
         rec.draw_position[c] = level.draw.empty() ? level.position[v] : level.draw[v];
     }
     rec.shell = level.shells[index_in_level(id)].expand(origin_);
@@ -282,7 +364,8 @@ const Patch& Tile::last_patch() const {
 
 std::size_t Tile::bytes_when_complete() const {
     std::size_t bytes = sizeof(Tile) + levels_.capacity() * sizeof(TileLevel) + 2 * frontier_.owned_bytes();
-    const std::size_t per_vertex = (ctx_->scheme == SchemeKind::loop ? 3 : 2) * sizeof(Vec3);
+    const std::size_t per_vertex = (ctx_->scheme == SchemeKind::loop ? 3 : 2) * sizeof(Vec3) +
+                                   sizeof(glm::vec3) + sizeof(float);
     for (int j = 1; j <= depth_; ++j) {
         const std::size_t n = std::size_t{1} << j;
         bytes += (n + 1) * (n + 2) / 2 * per_vertex + n * n * sizeof(CompactShell);
@@ -345,6 +428,8 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     const std::size_t face_count = ctx.topo.face_count();
     const std::size_t vertex_count = mesh_->positions.size();
     normal_.resize(vertex_count);
+    shading_.resize(vertex_count);
+    displacement_.resize(vertex_count);
     if (ctx.scheme == SchemeKind::loop) draw_.resize(vertex_count);
     shells_.resize(face_count);
     // In chunks of base triangles, each with the border its records read:
@@ -361,8 +446,7 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
         p.finish(ctx.topo, ctx.scheme);
         // The next level's positions only: the shells read its edge points
         // (and Loop's moved corners), never its triangles.
-        Patch next;
-        if (ctx.max_level > 0) next = p.subdivide(ctx.topo, ctx.scheme, false);
+        Patch next = p.subdivide(ctx.topo, ctx.scheme, false);
         for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
             const std::uint32_t f = p.tris[t].id.face;
             if (f < first || f >= first + region.size()) continue;  // border
@@ -377,9 +461,13 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
                     // kept apart (faces come in order, so slots ascend).
                     written[v] = true;
                     normal_[v] = rec.normal[c];
+                    shading_[v] = glm::vec3(rec.shading_normal[c]);
+                    displacement_[v] = rec.displacement[c];
                     if (!draw_.empty()) draw_[v] = rec.draw_position[c];
-                } else if (rec.normal[c] != normal_[v]) {
-                    split_corners_.push_back({3 * f + static_cast<std::uint32_t>(c), rec.normal[c]});
+                } else if (rec.normal[c] != normal_[v] ||
+                           glm::vec3(rec.shading_normal[c]) != shading_[v]) {
+                    split_corners_.push_back({3 * f + static_cast<std::uint32_t>(c), rec.normal[c],
+                                              glm::vec3(rec.shading_normal[c])});
                 }
             }
         }
@@ -394,14 +482,18 @@ NodeRecord RootRecords::record(std::uint32_t face) const {
     for (int c = 0; c < 3; ++c) {
         rec.position[c] = mesh_->positions[t[c]];
         rec.normal[c] = normal_[t[c]];
+        rec.shading_normal[c] = Vec3(shading_[t[c]]);
+        rec.displacement[c] = displacement_[t[c]];
         rec.draw_position[c] = draw_.empty() ? rec.position[c] : draw_[t[c]];
     }
     if (!split_corners_.empty()) {
         const auto lo = std::lower_bound(
             split_corners_.begin(), split_corners_.end(), 3 * face,
             [](const SplitCorner& x, std::uint32_t slot) { return x.slot < slot; });
-        for (auto it = lo; it != split_corners_.end() && it->slot < 3 * face + 3; ++it)
+        for (auto it = lo; it != split_corners_.end() && it->slot < 3 * face + 3; ++it) {
             rec.normal[it->slot - 3 * face] = it->normal;
+            rec.shading_normal[it->slot - 3 * face] = Vec3(it->shading);
+        }
     }
     rec.shell = shells_[face].expand(rec.position[0]);
     return rec;
@@ -409,6 +501,7 @@ NodeRecord RootRecords::record(std::uint32_t face) const {
 
 std::size_t RootRecords::owned_bytes() const {
     return (normal_.capacity() + draw_.capacity()) * sizeof(Vec3) +
+           shading_.capacity() * sizeof(glm::vec3) + displacement_.capacity() * sizeof(float) +
            shells_.capacity() * sizeof(CompactShell) + split_corners_.capacity() * sizeof(SplitCorner);
 }
 

@@ -54,6 +54,8 @@ struct TileLevel {
     std::vector<Vec3> position;
     std::vector<Vec3> normal;
     std::vector<Vec3> draw;  ///< Loop only (interpolating schemes draw at position)
+    std::vector<glm::vec3> shading;     ///< NodeRecord::shading_normal (a ray only reads it)
+    std::vector<float> displacement;    ///< NodeRecord::displacement, rounded up
     std::vector<CompactShell> shells;
 };
 
@@ -123,12 +125,15 @@ private:
     const Mesh* mesh_;
     std::vector<Vec3> normal_;  ///< per base vertex
     std::vector<Vec3> draw_;    ///< Loop only
+    std::vector<glm::vec3> shading_;  ///< per base vertex
+    std::vector<float> displacement_;  ///< per base vertex
     std::vector<CompactShell> shells_;
-    /// Corners (slot 3f + c, ascending) whose normal is not their vertex's,
+    /// Corners (slot 3f + c, ascending) whose normals are not their vertex's,
     /// on the far side of a crease.
     struct SplitCorner {
         std::uint32_t slot;
         Vec3 normal;
+        glm::vec3 shading;
     };
     std::vector<SplitCorner> split_corners_;
 };

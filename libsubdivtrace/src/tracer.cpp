@@ -15,6 +15,7 @@
 #include <glm/geometric.hpp>
 
 #include "bvh.h"
+#include "crossings.h"
 #include "ray_triangle.h"
 #include "subdivtrace/hierarchy.h"
 
@@ -27,6 +28,21 @@ void TraceCounters::add(const TraceCounters& o) {
     cache_hits += o.cache_hits;
     cache_misses += o.cache_misses;
     deepest_level = std::max(deepest_level, o.deepest_level);
+    hits += o.hits;
+    error_bound_px_sum += o.error_bound_px_sum;
+    error_bound_px_max = std::max(error_bound_px_max, o.error_bound_px_max);
+    hits_at_max_level += o.hits_at_max_level;
+}
+
+const char* refine_rule_name(RefineRule rule) {
+    return rule == RefineRule::size ? "size" : "error";
+}
+
+bool parse_refine_rule(const std::string& text, RefineRule& rule) {
+    if (text == "error") rule = RefineRule::error;
+    else if (text == "size") rule = RefineRule::size;
+    else return false;
+    return true;
 }
 
 namespace {
@@ -40,30 +56,6 @@ struct DrawnCorner {
     Vec2 domain;  ///< barycentric weights of base corners 1 and 2
     bool alive;
 };
-
-/// What one all-hits hit met, for telling crossings apart by structure: the
-/// drawn triangle's inside, one of its edges or one of its corners, named by
-/// its drawn positions (bit-identical wherever leaves share them), and the
-/// signed share of a full turn around the ray that this triangle covers there.
-struct CrossingPart {
-    std::array<Vec3, 3> feature;  ///< sorted corners; unused ones zero
-    int corners;                  ///< 3 inside, 2 edge, 1 corner
-    double turns;                 ///< +-1 inside, +-1/2 edge, +-angle/(2 pi) corner
-    std::size_t hit;              ///< index into the hits
-};
-
-bool position_less(const Vec3& a, const Vec3& b) {
-    return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
-}
-
-bool feature_less(const CrossingPart& a, const CrossingPart& b) {
-    if (a.corners != b.corners) return a.corners < b.corners;
-    for (int c = 0; c < a.corners; ++c) {
-        if (position_less(a.feature[c], b.feature[c])) return true;
-        if (position_less(b.feature[c], a.feature[c])) return false;
-    }
-    return false;
-}
 
 Vec2 grid_domain(const NodeId& id, int corner) {
     const auto g = node_corner_grid(id)[corner];
@@ -93,10 +85,6 @@ void AdaptiveSurface::check_view(const View& v) {
 }
 
 namespace {
-
-/// Every surface gets an id never reused, so per-thread caches cannot
-/// confuse a destroyed surface with a new one at the same address.
-std::atomic<std::uint64_t> g_next_surface_id{1};
 
 /// The mesh as the surface keeps it: arrays at their size. (Its corner
 /// normals go once the hierarchy has read them: it keeps what it needs of
@@ -140,20 +128,33 @@ public:
     Hierarchy hierarchy;
     detail::Bvh top;
     Bounds3 bounds;
-    const std::uint64_t id = g_next_surface_id.fetch_add(1);
     mutable std::vector<std::atomic<std::uint64_t>> level_histogram;
     /// Running totals, relaxed atomics: no ray waits on another for them.
     struct Totals {
         std::atomic<std::uint64_t> rays{0}, nodes_visited{0}, leaves_tested{0};
+        std::atomic<std::uint64_t> hits{0}, hits_at_max_level{0};
         std::atomic<int> deepest_level{0};
+        std::atomic<double> error_bound_px_sum{0.0}, error_bound_px_max{0.0};
         void add(const TraceCounters& c) {
             rays.fetch_add(c.rays, std::memory_order_relaxed);
             nodes_visited.fetch_add(c.nodes_visited, std::memory_order_relaxed);
             leaves_tested.fetch_add(c.leaves_tested, std::memory_order_relaxed);
-            int seen = deepest_level.load(std::memory_order_relaxed);
-            while (c.deepest_level > seen &&
-                   !deepest_level.compare_exchange_weak(seen, c.deepest_level,
-                                                        std::memory_order_relaxed)) {
+            hits.fetch_add(c.hits, std::memory_order_relaxed);
+            hits_at_max_level.fetch_add(c.hits_at_max_level, std::memory_order_relaxed);
+            raise_to(deepest_level, c.deepest_level);
+            raise_to(error_bound_px_max, c.error_bound_px_max);
+            if (c.error_bound_px_sum != 0.0) {
+                double sum = error_bound_px_sum.load(std::memory_order_relaxed);
+                while (!error_bound_px_sum.compare_exchange_weak(sum, sum + c.error_bound_px_sum,
+                                                                 std::memory_order_relaxed)) {
+                }
+            }
+        }
+        template <class T>
+        static void raise_to(std::atomic<T>& target, T value) {
+            T seen = target.load(std::memory_order_relaxed);
+            while (value > seen &&
+                   !target.compare_exchange_weak(seen, value, std::memory_order_relaxed)) {
             }
         }
     };
@@ -162,44 +163,111 @@ public:
 
 namespace {
 
+/// What a walk does with the leaves it reaches.
+enum class WalkMode {
+    nearest,   ///< intersect, keep the closest hit, stop behind it
+    all_hits,  ///< intersect, keep every hit (CSG); merged into crossings after
+    drawn,     ///< diagnostics: no culling, every leaf collected as drawn
+};
+
+/// Where a walk starts and what it is for: named fields instead of a long
+/// positional initialiser.
+struct WalkSetup {
+    const View* view = nullptr;
+    Vec3 origin{0.0};
+    Vec3 direction{0.0, 0.0, 1.0};
+    double origin_distance = 0.0;  ///< D: camera to origin along the light path
+    double t_min = 0.0;
+    double t_max = 1e300;
+    WalkMode mode = WalkMode::nearest;
+    std::vector<Hit>* all_hits = nullptr;                  ///< all_hits mode
+    std::vector<std::array<Vec3, 3>>* drawn_out = nullptr;  ///< drawn mode
+};
+
+/// The error rule's constants (docs/tracer.md section 3, chosen by the
+/// measurements in docs/benchmarks.md).
+/// The surface near an edge lies within this many times its corners' largest
+/// edge-point displacement of the chord: the edge points themselves, then the
+/// rest of a geometric series with ratio <= 1/2 (the shells' own bound).
+constexpr double k_series_factor = 2.0;
+/// Shading: an edge wider than this many pixels refines while the surface
+/// turns along it by more than k_max_turn radians times the tolerance (a
+/// circular arc of chord h and sagitta s turns by about 8 s / h).
+constexpr double k_shading_min_px = 2.0;
+constexpr double k_max_turn = 0.1;
+
+/// What a node's visit passes to its children's.
+struct FromParent {
+    double thickness = 0.0;   ///< the parent's slab thickness
+    double snap_depth = 0.0;  ///< with snapped corners: the depth of the shell that holds them
+};
+
 /// One ray's walk through the hierarchy.
-struct Traversal {
+struct Walk {
+    Walk(const SurfaceImpl& surface, const WalkSetup& w)
+        : s(surface),
+          view(*w.view),
+          origin(w.origin),
+          origin_distance(w.origin_distance),
+          dir_length(glm::length(w.direction)),
+          t_min(w.t_min),
+          t_max(w.t_max),
+          mode(w.mode),
+          query(make_ray_box_query(w.origin, w.direction, w.t_min, w.t_max)),
+          wray(detail::make_watertight_ray(w.origin, w.direction)),
+          all_hits(w.all_hits),
+          drawn_out(w.drawn_out) {}
+
     const SurfaceImpl& s;
     const View& view;
     Vec3 origin;
-    Vec3 dir;
-    double origin_distance;  ///< D: camera to origin along the light path
+    double origin_distance;
+    double dir_length;
     double t_min;
     double t_max;  ///< shrinks to the nearest hit in nearest mode
-    bool collect_all;
+    WalkMode mode;
     RayBoxQuery query;
     detail::WatertightRay wray;
+    std::vector<Hit>* all_hits;
+    std::vector<std::array<Vec3, 3>>* drawn_out;
     Hit best;
     bool found = false;
-    std::vector<Hit>* all_hits = nullptr;
     TraceCounters counters;
-    /// Diagnostics mode: no culling, leaves collected instead of intersected.
-    std::vector<std::array<Vec3, 3>>* drawn_out = nullptr;
     /// All-hits mode: what each hit met, parallel to *all_hits.
-    std::vector<CrossingPart> parts;
+    std::vector<detail::CrossingPart> parts;
 
-    /// DESIGN section 5: an edge refines while it is longer than the ray's
-    /// footprint where the ray would meet it, width(d) = angle * (D + d) * tol.
-    bool edge_refines(const Vec3& a, const Vec3& b) const {
+    /// One pixel's width at distance d along the light path from the ray's
+    /// origin (DESIGN section 5: angle * (D + d); orthographic: the pixel size).
+    double pixel_width(double d) const {
+        return view.orthographic ? view.pixel_size : view.pixel_angle * (origin_distance + d);
+    }
+
+    /// One pixel's width where the ray would meet edge (a, b): at its nearest
+    /// point to the origin, bounded below by the distance to its midpoint
+    /// minus half its length. Symmetric in a and b, so both sides agree.
+    double pixel_width_at_edge(const Vec3& a, const Vec3& b, double length) const {
+        if (view.orthographic) return view.pixel_size;
+        const double to_mid = glm::length((a + b) * 0.5 - origin);
+        return pixel_width(std::max(0.0, to_mid - 0.5 * length));
+    }
+
+    /// Whether edge (a, b) refines, from data both of its triangles hold bit
+    /// for bit: its level-L endpoints and their displacement (NodeRecord).
+    bool edge_refines(const Vec3& a, const Vec3& b, float disp_a, float disp_b) const {
         const double length = glm::length(b - a);
-        double width;
-        if (view.orthographic) {
-            width = view.pixel_size * s.options.tolerance;
-        } else {
-            const double to_mid = glm::length((a + b) * 0.5 - origin);
-            const double d = std::max(0.0, to_mid - 0.5 * length);
-            width = view.pixel_angle * (origin_distance + d) * s.options.tolerance;
-        }
-        return length > width;
+        const double pixel = pixel_width_at_edge(a, b, length);
+        const double tolerance = s.options.tolerance;
+        if (s.options.refine == RefineRule::size) return length > pixel * tolerance;
+        // Error: the surface may lie farther than tolerance pixels from the
+        // chord, or it turns visibly along an edge wider than a few pixels.
+        const double deviation = k_series_factor * std::max(disp_a, disp_b);
+        if (deviation > tolerance * pixel) return true;
+        return length > k_shading_min_px * pixel &&
+               8.0 * std::max(disp_a, disp_b) > k_max_turn * tolerance * length;
     }
 
     bool shell_entry(const Shell& shell, const DrawnCorner* drawn, double& t_entry) const {
-        if (drawn_out) {
+        if (mode == WalkMode::drawn) {
             t_entry = 0.0;
             return true;
         }
@@ -215,9 +283,9 @@ struct Traversal {
     }
 
     void leaf(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn,
-              double parent_thickness) {
+              const FromParent& from_parent, bool capped) {
         ++counters.leaves_tested;
-        if (drawn_out) {
+        if (mode == WalkMode::drawn) {
             drawn_out->push_back({drawn[0].position, drawn[1].position, drawn[2].position});
             return;
         }
@@ -243,19 +311,24 @@ struct Traversal {
         h.triangle = {drawn[0].position, drawn[1].position, drawn[2].position};
         h.level = id.level;
         h.base_face = id.face;
-        // Rounding of the hit point, plus how far the surface another ray sees
-        // here may lie from this leaf. A finer one stays in the leaf's shell,
-        // snapping moves it to the drawn corners, and a ray that stops one
-        // level coarser (a secondary ray from this point judges edges by their
-        // distance from the point, not from the camera) sees the parent,
-        // inside the parent's shell: the larger thickness bounds them all.
+        h.capped_by_max_level = capped;
+        // The leaf's shell holds every descendant to max_level; grown by the
+        // corners it draws it holds the drawn point too, so its depth bounds
+        // how far the two lie apart. A leaf with snapped corners draws part
+        // of an ancestor's region: the ancestor's grown shell bounds that.
         Shell grown = rec.shell;
         for (int c = 0; c < 3; ++c) grown.grow_both(drawn[c].position);
         const Vec3 ap = glm::abs(h.point);
-        h.error_bound = gamma_bound(7) * (ap.x + ap.y + ap.z) +
-                        std::max({0.0, grown.thickness(), parent_thickness});
-        if (collect_all) {
-            parts.push_back(crossing_part(h.triangle, th, all_hits->size()));
+        const double rounding = gamma_bound(7) * (ap.x + ap.y + ap.z);
+        h.surface_error = rounding + std::max(shell_depth(grown), from_parent.snap_depth);
+        h.surface_error_px = h.surface_error / pixel_width(h.t * dir_length);
+        // For secondary rays: a ray that stops one level coarser (a shadow ray
+        // judges edges by their distance from this point, not from the
+        // camera) sees the parent, inside the parent's shell.
+        h.error_bound = rounding + std::max({0.0, shell_depth(grown), from_parent.thickness,
+                                             from_parent.snap_depth});
+        if (mode == WalkMode::all_hits) {
+            parts.push_back(detail::crossing_part(wray, h.triangle, th, all_hits->size()));
             all_hits->push_back(h);
         } else {
             best = h;
@@ -264,45 +337,10 @@ struct Traversal {
         }
     }
 
-    /// The feature of the leaf the ray met and the share of a turn around the
-    /// ray the leaf covers there. Zero weights are exact (the watertight test
-    /// computes a shared edge's function identically from both sides), so
-    /// every leaf that meets the same edge or corner names the same feature.
-    CrossingPart crossing_part(const std::array<Vec3, 3>& t, const detail::TriangleHit& th,
-                               std::size_t hit) const {
-        constexpr double k_two_pi = 6.283185307179586476925;
-        const double b[3] = {th.b0, th.b1, th.b2};
-        const double sign = th.det > 0.0 ? 1.0 : -1.0;
-        CrossingPart part{{Vec3(0.0), Vec3(0.0), Vec3(0.0)}, 0, 0.0, hit};
-        for (int c = 0; c < 3; ++c)
-            if (b[c] != 0.0) part.feature[part.corners++] = t[c];
-        // At most three: sorted by hand (std::sort here trips GCC 12's -Warray-bounds).
-        auto order = [&](int x, int y) {
-            if (position_less(part.feature[y], part.feature[x]))
-                std::swap(part.feature[x], part.feature[y]);
-        };
-        if (part.corners >= 2) order(0, 1);
-        if (part.corners == 3) {
-            order(1, 2);
-            order(0, 1);
-        }
-        if (part.corners == 3) {
-            part.turns = sign;
-        } else if (part.corners == 2) {
-            part.turns = 0.5 * sign;
-        } else {
-            // The corner's angle in the plane across the ray (the test's shear).
-            const int i = b[0] != 0.0 ? 0 : b[1] != 0.0 ? 1 : 2;
-            auto project = [&](const Vec3& p) {
-                const Vec3 q = p - wray.origin;
-                return Vec2(q[wray.kx] - wray.sx * q[wray.kz], q[wray.ky] - wray.sy * q[wray.kz]);
-            };
-            const Vec2 o = project(t[i]);
-            const Vec2 u = project(t[(i + 1) % 3]) - o, v = project(t[(i + 2) % 3]) - o;
-            const double angle = std::atan2(std::abs(u.x * v.y - u.y * v.x), u.x * v.x + u.y * v.y);
-            part.turns = sign * angle / k_two_pi;
-        }
-        return part;
+    /// How deep a shell is across the surface: its slab, or without one its box's diagonal.
+    static double shell_depth(const Shell& shell) {
+        if (shell.axis != Vec3(0.0)) return shell.thickness();
+        return glm::length(shell.hi - shell.lo);
     }
 
     /// Starts the descent at a base triangle: its corners and edges are its own.
@@ -311,30 +349,35 @@ struct Traversal {
         const NodeRecord rec = s.hierarchy.node(id);
         DrawnCorner drawn[3];
         for (int c = 0; c < 3; ++c)
-            drawn[c] = {rec.draw_position[c], rec.normal[c], grid_domain(id, c), true};
+            drawn[c] = {rec.draw_position[c], rec.shading_normal[c], grid_domain(id, c), true};
         double t_entry;
         if (!shell_entry(rec.shell, drawn, t_entry)) return;
         const bool exists[3] = {true, true, true};
-        visit(id, rec, drawn, exists, 0.0);
+        visit(id, rec, drawn, exists, FromParent{});
     }
 
     void visit(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn,
-               const bool* edge_exists, double parent_thickness) {
+               const bool* edge_exists, const FromParent& from_parent) {
         ++counters.nodes_visited;
         counters.deepest_level = std::max(counters.deepest_level, int{id.level});
         const bool naive = s.options.crack_rule == CrackRule::per_triangle;
+        const bool at_max_level = id.level >= s.options.max_level;
         bool refine[3];
         bool any = false;
         for (int e = 0; e < 3; ++e) {
-            refine[e] = edge_exists[e] && id.level < s.options.max_level &&
-                        edge_refines(rec.position[e], rec.position[(e + 1) % 3]);
+            const int f = (e + 1) % 3;
+            refine[e] = edge_exists[e] &&
+                        edge_refines(rec.position[e], rec.position[f], rec.displacement[e],
+                                     rec.displacement[f]);
             any = any || refine[e];
         }
+        const bool capped = at_max_level && any;
+        if (at_max_level) refine[0] = refine[1] = refine[2] = any = false;
         // The paper's rule: the triangle alone decides and every child vertex
         // is its own (T-junctions wherever neighbours disagree).
         if (naive) refine[0] = refine[1] = refine[2] = any;
         if (!any) {
-            leaf(id, rec, drawn, parent_thickness);
+            leaf(id, rec, drawn, from_parent, capped);
             return;
         }
 
@@ -351,7 +394,13 @@ struct Traversal {
             const bool frozen_at_b = !refine[(e + 1) % 3];
             snap_to[e] = frozen_at_a || !frozen_at_b ? a : b;
         }
-        const double thickness = rec.shell.thickness();
+        // What the children inherit: this node's slab, and where one of
+        // them draws a snapped corner, how deep this node's grown shell is.
+        FromParent inherited;
+        inherited.thickness = rec.shell.thickness();
+        Shell grown = rec.shell;
+        for (int c = 0; c < 3; ++c) grown.grow_both(drawn[c].position);
+        const double snap_depth = std::max(from_parent.snap_depth, shell_depth(grown));
         struct Child {
             NodeId id;
             DrawnCorner drawn[3];
@@ -372,7 +421,7 @@ struct Traversal {
                 const bool own =
                     naive || (cc.is_edge ? refine[cc.index] : drawn[cc.index].alive);
                 if (own) {
-                    ch.drawn[k] = {child_rec.draw_position[k], child_rec.normal[k],
+                    ch.drawn[k] = {child_rec.draw_position[k], child_rec.shading_normal[k],
                                    grid_domain(ch.id, k), true};
                 } else if (!cc.is_edge) {
                     ch.drawn[k] = drawn[cc.index];
@@ -400,49 +449,13 @@ struct Traversal {
         for (int k = 0; k < 4; ++k) {
             Child& ch = children[order[k]];
             if (!ch.hit) break;
-            if (!collect_all && !drawn_out && ch.t_entry > t_max) break;
-            visit(ch.id, child_recs[order[k]], ch.drawn, ch.exists, thickness);
+            if (mode == WalkMode::nearest && ch.t_entry > t_max) break;
+            const bool snapped = !ch.drawn[0].alive || !ch.drawn[1].alive || !ch.drawn[2].alive;
+            inherited.snap_depth = snapped ? snap_depth : 0.0;
+            visit(ch.id, child_recs[order[k]], ch.drawn, ch.exists, inherited);
         }
     }
 };
-
-}  // namespace
-
-namespace {
-
-/// Each crossing once, by structure (docs/tracer.md section 3): the hits on one
-/// feature (a drawn triangle's inside, edge or corner) are one place where the
-/// ray meets the surface, crossed as many times as the triangles there wind
-/// around the ray (their signed turns, summed and rounded). A shared edge or
-/// corner the ray passes through winds once: one crossing. A triangle the
-/// snapped rule draws twice, once each way round (the double layer), and a
-/// silhouette edge or corner the ray only touches wind zero times: no crossing.
-/// A ray running along a drawn edge meets its two corners with part of each
-/// fan edge-on (no hit); their windings then add up to a whole number, so
-/// rounding each to the nearest keeps the parity of the pair.
-void merge_crossings(std::vector<CrossingPart>& parts, std::vector<Hit>& hits) {
-    std::sort(parts.begin(), parts.end(), feature_less);
-    std::vector<Hit> out;
-    out.reserve(hits.size());
-    for (std::size_t first = 0; first < parts.size();) {
-        std::size_t end = first + 1;
-        while (end < parts.size() && !feature_less(parts[first], parts[end])) ++end;
-        double turns = 0.0;
-        for (std::size_t k = first; k < end; ++k) turns += parts[k].turns;
-        const long crossings = std::lround(std::abs(turns));
-        // Report the hit of a triangle facing the way the crossing goes.
-        std::size_t pick = first;
-        for (std::size_t k = first; k < end; ++k)
-            if ((parts[k].turns > 0.0) == (turns > 0.0)) {
-                pick = k;
-                break;
-            }
-        for (long c = 0; c < crossings; ++c) out.push_back(hits[parts[pick].hit]);
-        first = end;
-    }
-    std::sort(out.begin(), out.end(), [](const Hit& a, const Hit& b) { return a.t < b.t; });
-    hits.swap(out);
-}
 
 }  // namespace
 
@@ -454,56 +467,47 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
         if (found) *found = false;
         return;
     }
-    const View& view = ray.view ? *ray.view : options.view;
-    Traversal tr{*this,
-                 view,
-                 ray.origin,
-                 ray.direction,
-                 ray.origin_distance >= 0.0 ? ray.origin_distance
-                                            : glm::length(ray.origin - view.camera),
-                 ray.t_min,
-                 ray.t_max,
-                 all,
-                 make_ray_box_query(ray.origin, ray.direction, ray.t_min, ray.t_max),
-                 detail::make_watertight_ray(ray.origin, ray.direction),
-                 Hit{},
-                 false,
-                 hits,
-                 TraceCounters{},
-                 nullptr,
-                 {}};
-    tr.counters.rays = 1;
-    top.traverse(tr.query, tr.t_max, [&](std::uint32_t face) { tr.visit_root(face); });
-    if (found) *found = tr.found;
-    if (nearest && tr.found) *nearest = tr.best;
-    if (tr.found) level_histogram[tr.best.level].fetch_add(1, std::memory_order_relaxed);
+    WalkSetup setup;
+    setup.view = ray.view ? ray.view : &options.view;
+    setup.origin = ray.origin;
+    setup.direction = ray.direction;
+    setup.origin_distance = ray.origin_distance >= 0.0 ? ray.origin_distance
+                                                       : glm::length(ray.origin - setup.view->camera);
+    setup.t_min = ray.t_min;
+    setup.t_max = ray.t_max;
+    setup.mode = all ? WalkMode::all_hits : WalkMode::nearest;
+    setup.all_hits = hits;
+    Walk walk(*this, setup);
+    walk.counters.rays = 1;
+    top.traverse(walk.query, walk.t_max, [&](std::uint32_t face) { walk.visit_root(face); });
+    if (found) *found = walk.found;
+    if (nearest && walk.found) *nearest = walk.best;
+    const auto count_hit = [&](const Hit& h) {
+        level_histogram[h.level].fetch_add(1, std::memory_order_relaxed);
+        ++walk.counters.hits;
+        walk.counters.error_bound_px_sum += h.surface_error_px;
+        walk.counters.error_bound_px_max = std::max(walk.counters.error_bound_px_max, h.surface_error_px);
+        walk.counters.hits_at_max_level += h.capped_by_max_level ? 1 : 0;
+    };
+    if (walk.found) count_hit(walk.best);
     if (all && hits) {
-        merge_crossings(tr.parts, *hits);
-        for (const Hit& h : *hits) level_histogram[h.level].fetch_add(1, std::memory_order_relaxed);
+        detail::merge_crossings(walk.parts, *hits);
+        for (const Hit& h : *hits) count_hit(h);
     }
-    if (counters) counters->add(tr.counters);
-    totals.add(tr.counters);
+    if (counters) counters->add(walk.counters);
+    totals.add(walk.counters);
 }
 
 void SurfaceImpl::collect_drawn(const Vec3& origin, double origin_distance,
                                 std::vector<std::array<Vec3, 3>>& out) const {
-    Traversal tr{*this,
-                 options.view,
-                 origin,
-                 Vec3(0.0, 0.0, 1.0),
-                 origin_distance,
-                 0.0,
-                 1e300,
-                 true,
-                 make_ray_box_query(origin, Vec3(0.0, 0.0, 1.0), 0.0, 1e300),
-                 detail::make_watertight_ray(origin, Vec3(0.0, 0.0, 1.0)),
-                 Hit{},
-                 false,
-                 nullptr,
-                 TraceCounters{},
-                 &out,
-                 {}};
-    for (std::uint32_t face = 0; face < mesh.triangles.size(); ++face) tr.visit_root(face);
+    WalkSetup setup;
+    setup.view = &options.view;
+    setup.origin = origin;
+    setup.origin_distance = origin_distance;
+    setup.mode = WalkMode::drawn;
+    setup.drawn_out = &out;
+    Walk walk(*this, setup);
+    for (std::uint32_t face = 0; face < mesh.triangles.size(); ++face) walk.visit_root(face);
 }
 
 AdaptiveSurface::AdaptiveSurface(Mesh mesh, const SurfaceOptions& options) {
@@ -560,6 +564,10 @@ SurfaceStats AdaptiveSurface::stats() const {
     s.trace.nodes_visited = impl_->totals.nodes_visited.load();
     s.trace.leaves_tested = impl_->totals.leaves_tested.load();
     s.trace.deepest_level = impl_->totals.deepest_level.load();
+    s.trace.hits = impl_->totals.hits.load();
+    s.trace.hits_at_max_level = impl_->totals.hits_at_max_level.load();
+    s.trace.error_bound_px_sum = impl_->totals.error_bound_px_sum.load();
+    s.trace.error_bound_px_max = impl_->totals.error_bound_px_max.load();
     const HierarchyCounters h = impl_->hierarchy.counters();
     s.trace.cache_hits = h.node_hits;
     s.trace.cache_misses = h.node_misses;

@@ -33,19 +33,24 @@ const char* k_render_usage =
     "\n";
 const char* k_render_options_help =
     "  --scheme S                 normal | loop | butterfly (normal)\n"
-    "  --tolerance T              refine while an edge exceeds T pixels (1)\n"
+    "  --refine R                 error | size (error): refine while the surface may lie\n"
+    "                             farther than T pixels from what is drawn, or (size, the\n"
+    "                             paper's rule) while an edge is longer than T pixels\n"
+    "  --tolerance T              pixels, for the rule above (1)\n"
     "  --max-level L              deepest level any ray may reach (8)\n"
     "  --uniform K                render the uniform level-K mesh instead (baseline)\n"
     "  --cache-mb M               tile cache budget in MB (64)\n"
     "  --shell K                  bounding shells: slab (box and normal slab) | aabb (slab)\n"
-    "  --color-by level|face      false colours: the level of the leaf each pixel hit,\n"
-    "                             or its base triangle; a legend goes to stdout\n"
+    "  --color-by level|face|error false colours: the level of the leaf each pixel hit,\n"
+    "                             its base triangle, or its certified error bound in\n"
+    "                             pixels; a legend goes to stdout\n"
     "  --weld EPS, --no-weld      how coincident vertices are welded (subdivtrace info --help)\n";
 
 struct RenderArgs {
     std::string mesh;
     ViewArgs view;
     SchemeKind scheme = SchemeKind::normal;
+    RefineRule refine = SurfaceOptions{}.refine;
     double tolerance = 1.0;
     int max_level = 8;
     int uniform = -1;
@@ -63,7 +68,9 @@ RenderArgs parse_render_args(const Args& args, bool needs_output) {
         auto value = [&]() -> const std::string& { return option_value(args, k); };
         if (parse_weld_arg(args, k, r.weld)) continue;
         if (a == "--scheme") r.scheme = parse_scheme_option(value());
-        else if (a == "--tolerance") {
+        else if (a == "--refine") {
+            if (!parse_refine_rule(value(), r.refine)) throw UsageError{"--refine must be error or size"};
+        } else if (a == "--tolerance") {
             r.tolerance = parse_number(a, value());
             if (!(r.tolerance > 0.0)) throw UsageError{"--tolerance must be positive"};
         } else if (a == "--max-level") r.max_level = parse_int(a, value(), 0, k_max_level_cap);
@@ -76,7 +83,7 @@ RenderArgs parse_render_args(const Args& args, bool needs_output) {
             else throw UsageError{"--shell must be slab or aabb"};
         } else if (a == "--color-by") {
             const auto c = parse_color_by(value());
-            if (!c) throw UsageError{"--color-by must be level or face"};
+            if (!c) throw UsageError{"--color-by must be level, face or error"};
             r.color_by = *c;
         } else take_mesh_argument(a, r.mesh);
     }
@@ -100,6 +107,7 @@ std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& r
     j << "  \"mode\": \"" << (a.uniform >= 0 ? "uniform" : "adaptive") << "\",\n";
     j << "  \"scheme\": \"" << scheme_name(a.scheme) << "\",\n";
     j << "  \"width\": " << a.view.width << ", \"height\": " << a.view.height << ",\n";
+    j << "  \"refine\": \"" << refine_rule_name(a.refine) << "\",\n";
     j << "  \"tolerance\": " << a.tolerance << ", \"max_level\": " << a.max_level
       << ", \"uniform_level\": " << a.uniform << ",\n";
     j << run_stats_json_fields(build_s, rs, scene_bytes, baseline_rss);
@@ -121,6 +129,11 @@ std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& r
         j << "  \"base_triangles\": " << ss->base_triangles << ",\n";
         j << "  \"base_bytes_per_triangle\": " << m.base() / faces << ",\n";
         j << "  \"deepest_level\": " << ss->trace.deepest_level << ",\n";
+        // The certified bound on each hit's distance to the surface, in pixels.
+        const double hits = std::max<double>(1.0, static_cast<double>(ss->trace.hits));
+        j << "  \"error_bound_px_max\": " << ss->trace.error_bound_px_max
+          << ", \"error_bound_px_mean\": " << ss->trace.error_bound_px_sum / hits
+          << ", \"hits_at_max_level\": " << ss->trace.hits_at_max_level << ",\n";
         j << "  \"leaf_level_histogram\": [";
         for (std::size_t k = 0; k < ss->leaf_level_histogram.size(); ++k)
             j << (k ? ", " : "") << ss->leaf_level_histogram[k];
@@ -171,6 +184,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
         const Camera cam = make_camera(a.view, mesh_bounds(mesh));
         SurfaceOptions so;
         so.scheme = a.scheme;
+        so.refine = a.refine;
         so.tolerance = a.tolerance;
         so.max_level = a.max_level;
         so.cache_mb = a.cache_mb;

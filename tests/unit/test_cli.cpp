@@ -371,8 +371,9 @@ TEST_CASE("cli: render --color-by level shows a far view using lower levels than
         REQUIRE(r.code == 0);
         return r.out;
     };
-    const std::string far = render("0,0,10", "far.ppm", {"--color-by", "level"});
-    const std::string close = render("0,0,2", "close.ppm", {"--color-by", "level"});
+    // The paper's size rule: levels follow the distance alone.
+    const std::string far = render("0,0,10", "far.ppm", {"--color-by", "level", "--refine", "size"});
+    const std::string close = render("0,0,2", "close.ppm", {"--color-by", "level", "--refine", "size"});
     INFO("far:\n" << far << "close:\n" << close);
     const auto far_levels = legend_levels(far);
     const auto close_levels = legend_levels(close);
@@ -415,8 +416,59 @@ TEST_CASE("cli: render --color-by face counts the base faces seen", "[cli][rende
 
     const Result bad = box.run({"render", k_cube, "-o", box.path("x.png"), "--color-by", "normal"});
     CHECK(bad.code == 2);
-    CHECK(bad.err.find("--color-by must be level or face") != std::string::npos);
+    CHECK(bad.err.find("--color-by must be level, face or error") != std::string::npos);
     CHECK_FALSE(fs::exists(box.path("x.png")));
+}
+
+TEST_CASE("cli: --refine error builds fewer nodes than size, and stats carry the bound",
+          "[cli][render]") {
+    Sandbox box;
+    const std::string bunny = k_data + "/../../data/bunny_lowpoly.obj";
+    auto stats = [&](const std::string& rule) {
+        const Result r = box.run({"stats", bunny, "--width", "96", "--height", "72", "--look-from",
+                                  "0,0,2", "--look-at", "0,0,0", "--refine", rule, "--threads", "2"});
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        return r.out;
+    };
+    auto number = [](const std::string& json, const std::string& key) {
+        const auto at = json.find("\"" + key + "\": ");
+        REQUIRE(at != std::string::npos);
+        return std::strtod(json.c_str() + at + key.size() + 4, nullptr);
+    };
+    const std::string error = stats("error"), size = stats("size");
+    INFO("error:\n" << error << "size:\n" << size);
+    CHECK(error.find("\"refine\": \"error\"") != std::string::npos);
+    CHECK(size.find("\"refine\": \"size\"") != std::string::npos);
+    CHECK(number(error, "nodes_built") < number(size, "nodes_built"));
+    // The bound is a distance in pixels: positive where the surface is
+    // curved, and the mean never above the largest.
+    CHECK(number(error, "error_bound_px_max") > 0.0);
+    CHECK(number(error, "error_bound_px_mean") <= number(error, "error_bound_px_max"));
+    CHECK(number(error, "hits_at_max_level") == 0.0);
+    const Result bad = box.run({"stats", bunny, "--refine", "fast"});
+    CHECK(bad.code == 2);
+    CHECK(bad.err.find("--refine must be error or size") != std::string::npos);
+}
+
+TEST_CASE("cli: render --color-by error bins every pixel by its certified bound", "[cli][render]") {
+    Sandbox box;
+    const std::string bunny = k_data + "/../../data/bunny_lowpoly.obj";
+    const Result r = box.run({"render", bunny, "-o", box.path("err.ppm"), "--width", "80",
+                              "--height", "60", "--color-by", "error", "--quiet", "--no-shadows"});
+    INFO(r.err << r.out);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("certified bound") != std::string::npos);
+    // Each legend line ends in "N pixels P%": together they are the pixels the image colours.
+    long total = 0;
+    std::istringstream lines(r.out);
+    for (std::string line; std::getline(lines, line);) {
+        const auto rgb = line.find("(rgb ");
+        if (rgb == std::string::npos) continue;
+        total += std::strtol(line.c_str() + line.find(')', rgb) + 1, nullptr, 10);
+    }
+    CHECK(total > 0);
+    CHECK(pixels_unlike_corner(slurp(box.path("err.ppm"))) == total);
 }
 
 TEST_CASE("cli: info counts creases, and Loop/Butterfly warn that given normals do not shape them",

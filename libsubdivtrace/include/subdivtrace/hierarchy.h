@@ -57,6 +57,16 @@ struct NodeRecord {
     std::array<Vec3, 3> position;       ///< level-L positions (decisions, shells)
     std::array<Vec3, 3> normal;         ///< level-L Gouraud normals
     std::array<Vec3, 3> draw_position;  ///< where the corner is drawn (Loop: limit point)
+    /// What a leaf shades with, closer to the limit surface's normal than
+    /// `normal`: Loop's limit normal (tangent masks) where the corner's ring is
+    /// a closed fan, else the Gouraud normal of the corner's triangles one
+    /// level down; `normal` itself at max_level and for given normals.
+    std::array<Vec3, 3> shading_normal;
+    /// Per corner: the largest distance of a level-(L+1) edge point from its
+    /// edge's midpoint over every edge at the corner (0 at max_level). The
+    /// same bits in every record that holds the corner, so both sides of an
+    /// edge decide alike from it (the error rule, docs/tracer.md).
+    std::array<float, 3> displacement{};
     Shell shell;                        ///< bounds every descendant to max_level
 };
 

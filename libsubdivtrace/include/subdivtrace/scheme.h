@@ -94,8 +94,6 @@ struct EdgeStencil {
 
 /// One scheme's new point on an edge (dispatches on kind).
 Vec3 edge_point(SchemeKind kind, const EdgeStencil& s);
-/// One scheme's new position of an old vertex (dispatches on kind).
-Vec3 vertex_point(SchemeKind kind, const VertexRing& ring);
 
 /// The new point on edge (a, b) for each scheme.
 Vec3 normal_edge_point(const Vec3& a, const Vec3& b, const Vec3& na, const Vec3& nb);

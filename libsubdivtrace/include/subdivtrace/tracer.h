@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "subdivtrace/mesh.h"
@@ -41,9 +42,29 @@ enum class CrackRule {
     per_triangle,
 };
 
+/// Which nodes a ray refines (docs/tracer.md section 3 explains both and when
+/// each wins).
+enum class RefineRule {
+    /// An edge refines while the surface near it may lie farther than
+    /// `tolerance` pixels of the ray's footprint from the chord drawn there, or
+    /// while the surface turns visibly along an edge wider than two pixels.
+    /// The default: a smooth surface stops at triangles many pixels wide.
+    error,
+    /// The paper's rule: an edge refines while it is longer than `tolerance`
+    /// pixels of the ray's footprint, whatever the surface's shape.
+    size,
+};
+
+/// "error" or "size".
+const char* refine_rule_name(RefineRule rule);
+/// Parses "error" or "size"; false for anything else.
+bool parse_refine_rule(const std::string& text, RefineRule& rule);
+
 struct SurfaceOptions {
     SchemeKind scheme = SchemeKind::normal;
-    /// Refine while an edge is longer than tolerance * the ray's footprint (pixels).
+    RefineRule refine = RefineRule::error;
+    /// In pixels of the ray's footprint: the largest distance between the
+    /// surface and what is drawn (error rule), or the longest edge drawn (size rule).
     double tolerance = 1.0;
     /// Deepest level any ray may refine to (0 = the base mesh).
     int max_level = 8;
@@ -90,6 +111,15 @@ struct Hit {
     /// Upper bound on how far `point` may lie from the exact ray/leaf hit and
     /// from the surface a neighbouring ray may see; offset secondary rays by it.
     double error_bound = 0.0;
+    /// Certified bound on the distance from `point` to the subdivision surface
+    /// at max_level (scene units): the leaf's shell, which holds every
+    /// descendant, grown by the corners it draws, plus rounding.
+    double surface_error = 0.0;
+    /// surface_error in pixels of the ray's footprint at the hit.
+    double surface_error_px = 0.0;
+    /// The leaf is at max_level and the refinement rule would have refined it
+    /// further: raise max_level if its surface_error_px is too large.
+    bool capped_by_max_level = false;
 };
 
 /// Work counters; the surface keeps running totals, a caller may keep its own.
@@ -100,6 +130,14 @@ struct TraceCounters {
     std::uint64_t cache_hits = 0;
     std::uint64_t cache_misses = 0;
     int deepest_level = 0;
+    /// Hits reported (nearest: one per ray that hit; all hits: each crossing).
+    std::uint64_t hits = 0;
+    /// Sum and largest of the hits' surface_error_px.
+    double error_bound_px_sum = 0.0;
+    double error_bound_px_max = 0.0;
+    /// Hits with Hit::capped_by_max_level: their bound may exceed what the rule
+    /// asks only because max_level stopped them.
+    std::uint64_t hits_at_max_level = 0;
     void add(const TraceCounters& o);
 };
 

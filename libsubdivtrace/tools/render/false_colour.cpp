@@ -38,7 +38,26 @@ Vec3 hsv_to_rgb(double h, double s, double v) {
 std::optional<ColorBy> parse_color_by(const std::string& name) {
     if (name == "level") return ColorBy::level;
     if (name == "face") return ColorBy::face;
+    if (name == "error") return ColorBy::error;
     return std::nullopt;
+}
+
+int error_bin(double bound_px) {
+    if (!(bound_px >= 1.0 / 64.0)) return 0;  // NaN lands here too, never indexes out
+    const int bin = static_cast<int>(std::floor(std::log2(bound_px))) + 7;
+    return std::clamp(bin, 1, 9);
+}
+
+std::string error_bin_range(int bin) {
+    char text[64];
+    if (bin <= 0) return "[0, 1/64) px";
+    if (bin >= 9) return "[4, inf) px";
+    // Powers of two, below one as fractions: [1/64, 1/32) .. [2, 4).
+    const auto name = [](int e) {
+        return e >= 0 ? std::to_string(1 << e) : "1/" + std::to_string(1 << -e);
+    };
+    std::snprintf(text, sizeof text, "[%s, %s) px", name(bin - 7).c_str(), name(bin - 6).c_str());
+    return text;
 }
 
 void PixelTally::add(const PixelTally& other) {
@@ -47,6 +66,10 @@ void PixelTally::add(const PixelTally& other) {
     for (std::size_t k = 0; k < other.level_pixels.size(); ++k)
         level_pixels[k] += other.level_pixels[k];
     for (const auto& [face, pixels] : other.face_pixels) face_pixels[face] += pixels;
+    if (error_pixels.size() < other.error_pixels.size())
+        error_pixels.resize(other.error_pixels.size(), 0);
+    for (std::size_t k = 0; k < other.error_pixels.size(); ++k)
+        error_pixels[k] += other.error_pixels[k];
 }
 
 Vec3 level_colour(int level) {
@@ -95,6 +118,18 @@ std::string legend(ColorBy mode, const PixelTally& tally) {
         std::snprintf(line, sizeof line, "  mean level: %.3f over %llu pixels\n",
                       total ? weighted / total : 0.0, static_cast<unsigned long long>(total));
         out += line;
+    } else if (mode == ColorBy::error) {
+        out += "colour by the hit's certified bound on its distance to the surface, in pixels:\n";
+        for (std::size_t k = 0; k < tally.error_pixels.size(); ++k) {
+            const std::uint64_t n = tally.error_pixels[k];
+            if (n == 0) continue;
+            const Vec3 c = level_colour(static_cast<int>(k));
+            std::snprintf(line, sizeof line, "  %-16s %-12s (rgb %.2f %.2f %.2f) %10llu pixels %5.1f%%\n",
+                          error_bin_range(static_cast<int>(k)).c_str(),
+                          level_colour_name(static_cast<int>(k)), c.x, c.y, c.z,
+                          static_cast<unsigned long long>(n), total ? 100.0 * n / total : 0.0);
+            out += line;
+        }
     } else if (mode == ColorBy::face) {
         std::snprintf(line, sizeof line,
                       "colour by base face (hue from a hash of the face id): %zu faces seen "

@@ -18,17 +18,25 @@ enum class ColorBy {
     shading,  ///< the normal render: albedo, headlight, point light, shadows
     level,    ///< one colour per subdivision level of the leaf hit
     face,     ///< one colour per base triangle (a hash of its id)
+    error,    ///< the hit's certified bound in pixels (Hit::surface_error_px), binned
 };
 
-/// "level" | "face"; nullopt for anything else.
+/// "level" | "face" | "error"; nullopt for anything else.
 std::optional<ColorBy> parse_color_by(const std::string& name);
 
 /// Pixels per level (index = level) and per base face, of the camera rays that hit.
 struct PixelTally {
     std::vector<std::uint64_t> level_pixels;
     std::map<std::uint32_t, std::uint64_t> face_pixels;  ///< only with ColorBy::face
+    std::vector<std::uint64_t> error_pixels;  ///< per error_bin, only with ColorBy::error
     void add(const PixelTally& other);
 };
+
+/// Bins of the certified bound in pixels: 0 below 1/64 px, then one per
+/// doubling, 9 at 4 px and above.
+int error_bin(double bound_px);
+/// Bin `bin`'s range as text, e.g. "[0.25, 0.5) px".
+std::string error_bin_range(int bin);
 
 /// The colour of `level`: a ramp from blue (0) through green and yellow to
 /// red and magenta (about 8), then white; named in the legend.

@@ -46,7 +46,9 @@ Vec3 shade(const IntersectFn& intersect, const Ray& ray, const Hit& hit, const V
 /// The false colour of a hit (ColorBy::level or face), lit by the headlight only.
 Vec3 false_colour(ColorBy mode, const Ray& ray, const Hit& hit) {
     const double headlight = std::abs(glm::dot(hit.normal, glm::normalize(ray.direction)));
-    const Vec3 base = mode == ColorBy::level ? level_colour(hit.level) : face_colour(hit.base_face);
+    const Vec3 base = mode == ColorBy::level   ? level_colour(hit.level)
+                      : mode == ColorBy::error ? level_colour(error_bin(hit.surface_error_px))
+                                               : face_colour(hit.base_face);
     return base * (0.3 + 0.7 * headlight);
 }
 
@@ -55,6 +57,11 @@ void count_pixel(ColorBy mode, const Hit& hit, PixelTally& tally) {
     if (tally.level_pixels.size() <= level) tally.level_pixels.resize(level + 1, 0);
     ++tally.level_pixels[level];
     if (mode == ColorBy::face) ++tally.face_pixels[hit.base_face];
+    if (mode == ColorBy::error) {
+        const std::size_t bin = static_cast<std::size_t>(error_bin(hit.surface_error_px));
+        if (tally.error_pixels.size() <= bin) tally.error_pixels.resize(bin + 1, 0);
+        ++tally.error_pixels[bin];
+    }
 }
 
 }  // namespace
