@@ -93,6 +93,60 @@ Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch* next, s
     return n == Vec3(0.0) ? own : n;
 }
 
+/// The normal at the midpoint of edge e of triangle t one level down
+/// (NodeRecord::edge_normal): from the edge point's ring there, the
+/// children of the edge's two triangles (one, across a crease or boundary).
+/// Loop: its limit normal (the ring is regular, valence 6); otherwise the
+/// Gouraud normal of the ring's triangles.
+Vec3 edge_midpoint_normal(const TileContext& ctx, const Patch& p, const Patch& next, std::uint32_t t,
+                         int e) {
+    const PatchTriangle& tri = p.tris[t];
+    const std::uint32_t a = tri.v[e], b = tri.v[(e + 1) % 3];
+    const PatchEdge& edge = p.edges[p.tri_edges[3 * t + e]];
+    const auto point = [&](std::uint32_t slot) -> const Vec3& {
+        const PatchEdge& pe = p.edges[p.tri_edges[slot]];
+        if (!pe.valid || !next.verts[pe.point].has_position) stencil_cut("an edge point around an edge's midpoint");
+        return next.verts[pe.point].position;
+    };
+    const Vec3& m = point(3 * t + e);
+    // The ring around the midpoint, counter-clockwise: b, m_bc, m_ca, a on
+    // this side, then a, m_ad, m_db, b on the other.
+    std::array<Vec3, 6> ring;
+    std::size_t count = 0;
+    ring[count++] = next.verts[b].position;
+    ring[count++] = point(3 * t + (e + 1) % 3);
+    ring[count++] = point(3 * t + (e + 2) % 3);
+    ring[count++] = next.verts[a].position;
+    bool closed = false;
+    if (!edge.curve && edge.slot_count == 2) {
+        const std::uint32_t other = edge.slot[0] == 3 * t + static_cast<std::uint32_t>(e) ? edge.slot[1] : edge.slot[0];
+        const std::uint32_t t2 = other / 3, e2 = other % 3;
+        // Only a neighbour wound the same way continues the fan.
+        if (p.tris[t2].v[e2] == b && p.tris[t2].v[(e2 + 1) % 3] == a) {
+            ring[count++] = point(3 * t2 + (e2 + 1) % 3);
+            ring[count++] = point(3 * t2 + (e2 + 2) % 3);
+            closed = true;
+        }
+    }
+    if (closed && ctx.scheme == SchemeKind::loop) {
+        // Loop's tangent masks at a regular vertex (cos, sin of k * 60 deg).
+        constexpr double k_half_sqrt3 = 0.86602540378443864676;
+        constexpr double cosines[6] = {1.0, 0.5, -0.5, -1.0, -0.5, 0.5};
+        constexpr double sines[6] = {0.0, k_half_sqrt3, k_half_sqrt3, 0.0, -k_half_sqrt3, -k_half_sqrt3};
+        Vec3 t1(0.0), t2(0.0);
+        for (std::size_t k = 0; k < 6; ++k) {
+            t1 += cosines[k] * ring[k];
+            t2 += sines[k] * ring[k];
+        }
+        const Vec3 n = finish_normal(glm::cross(t1, t2));
+        if (n != Vec3(0.0)) return n;
+    }
+    Vec3 sum(0.0);
+    for (std::size_t k = 0; k + 1 < count + (closed ? 1 : 0); ++k)
+        sum += angle_weighted_normal(m, ring[k], ring[(k + 1) % count]);
+    return finish_normal(sum);
+}
+
 /// Record of triangle t of patch p (level L), with `next` the patch p
 /// subdivided once (untrimmed; only read when L < max_level).
 NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next, std::uint32_t t) {
@@ -112,6 +166,11 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
         if (refinable && !d.has_displacement) stencil_cut("an edge point next to a corner");
         rec.displacement[c] = refinable ? round_up(d.displacement) : 0.0f;
     }
+    // The user's normals shade linearly, as mesh2 does; zero says so.
+    const bool given = ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals() && p.level == 0;
+    for (int e = 0; e < 3; ++e)
+        rec.edge_normal[e] = glm::vec3(next ? edge_midpoint_normal(ctx, p, *next, t, e) : Vec3(0.0));
+    rec.linear_shading = given;
 
     // Slab axis: the node's own plane (or its corners' mean normal if it is degenerate).
     Shell& shell = rec.shell;
@@ -263,6 +322,7 @@ void Tile::build_level(int j) {
     out.normal.resize(out.position.size());
     out.shading.resize(out.position.size());
     out.displacement.resize(out.position.size());
+    for (auto& edges : out.edge_normal) edges.resize(out.position.size());
     if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.position.size());
     out.shells.resize(n * n);
     std::vector<Shell> shells(n * n);
@@ -280,6 +340,8 @@ void Tile::build_level(int j) {
             out.shading[v] = glm::vec3(rec.shading_normal[c]);
             out.displacement[v] = rec.displacement[c];
             if (!out.draw.empty()) out.draw[v] = rec.draw_position[c];
+            const auto [direction, at] = edge_slot(tri.id, c);
+            out.edge_normal[direction][at] = rec.edge_normal[c];
         }
     }
     // Shells relative to a point of the tile: its first grid point at level 1.
@@ -296,6 +358,19 @@ void Tile::build_level(int j) {
     }
     ctx_->records_built->fetch_add(out.shells.size(), std::memory_order_relaxed);
     ready_.store(j, std::memory_order_release);
+}
+
+std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, int e) const {
+    const auto grid = node_corner_grid(id);
+    const std::array<std::uint32_t, 2>& p = grid[e];
+    const std::array<std::uint32_t, 2>& q = grid[(e + 1) % 3];
+    // Grid coordinates: the direction is the same in the root's local frame
+    // (a "down" root's is point-reflected, which keeps each direction).
+    const int direction = p[1] == q[1] ? 0 : p[0] == q[0] ? 1 : 2;
+    // The first point: the smaller j, or on a row the smaller i.
+    const bool p_first = p[1] != q[1] ? p[1] < q[1] : p[0] < q[0];
+    const auto& first = p_first ? p : q;
+    return {direction, vertex_index(id, first[0], first[1])};
 }
 
 std::size_t Tile::vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const {
@@ -331,6 +406,8 @@ void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const 
             rec.shading_normal[k] = Vec3(level.shading[v]);
             rec.displacement[k] = level.displacement[v];
             rec.draw_position[k] = level.draw.empty() ? level.position[v] : level.draw[v];
+            const auto [direction, at] = edge_slot(child, k);
+            rec.edge_normal[k] = level.edge_normal[direction][at];
         }
         rec.shell = level.shells[index_in_level(child)].expand(origin_);
     }
@@ -346,6 +423,8 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
         rec.shading_normal[c] = Vec3(level.shading[v]);
         rec.displacement[c] = level.displacement[v];
         rec.draw_position[c] = level.draw.empty() ? level.position[v] : level.draw[v];
+        const auto [direction, at] = edge_slot(id, c);
+        rec.edge_normal[c] = level.edge_normal[direction][at];
     }
     rec.shell = level.shells[index_in_level(id)].expand(origin_);
     return rec;
@@ -365,7 +444,7 @@ const Patch& Tile::last_patch() const {
 std::size_t Tile::bytes_when_complete() const {
     std::size_t bytes = sizeof(Tile) + levels_.capacity() * sizeof(TileLevel) + 2 * frontier_.owned_bytes();
     const std::size_t per_vertex = (ctx_->scheme == SchemeKind::loop ? 3 : 2) * sizeof(Vec3) +
-                                   sizeof(glm::vec3) + sizeof(float);
+                                   4 * sizeof(glm::vec3) + sizeof(float);
     for (int j = 1; j <= depth_; ++j) {
         const std::size_t n = std::size_t{1} << j;
         bytes += (n + 1) * (n + 2) / 2 * per_vertex + n * n * sizeof(CompactShell);
@@ -430,6 +509,8 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     normal_.resize(vertex_count);
     shading_.resize(vertex_count);
     displacement_.resize(vertex_count);
+    edge_normal_.resize(3 * face_count);
+    linear_shading_ = ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals();
     if (ctx.scheme == SchemeKind::loop) draw_.resize(vertex_count);
     shells_.resize(face_count);
     // In chunks of base triangles, each with the border its records read:
@@ -453,6 +534,7 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
             for (std::uint32_t v : p.tris[t].v) p.ensure_normal(ctx.topo, ctx.scheme, v);
             const NodeRecord rec = make_record(ctx, p, &next, t);
             shells_[f] = CompactShell::from(rec.shell, rec.position[0]);
+            for (int e = 0; e < 3; ++e) edge_normal_[3 * f + e] = rec.edge_normal[e];
             for (int c = 0; c < 3; ++c) {
                 const std::uint32_t v = p.verts[p.tris[t].v[c]].key.a;
                 if (!written[v]) {
@@ -485,7 +567,9 @@ NodeRecord RootRecords::record(std::uint32_t face) const {
         rec.shading_normal[c] = Vec3(shading_[t[c]]);
         rec.displacement[c] = displacement_[t[c]];
         rec.draw_position[c] = draw_.empty() ? rec.position[c] : draw_[t[c]];
+        rec.edge_normal[c] = edge_normal_[3 * std::size_t{face} + c];
     }
+    rec.linear_shading = linear_shading_;
     if (!split_corners_.empty()) {
         const auto lo = std::lower_bound(
             split_corners_.begin(), split_corners_.end(), 3 * face,
@@ -501,7 +585,8 @@ NodeRecord RootRecords::record(std::uint32_t face) const {
 
 std::size_t RootRecords::owned_bytes() const {
     return (normal_.capacity() + draw_.capacity()) * sizeof(Vec3) +
-           shading_.capacity() * sizeof(glm::vec3) + displacement_.capacity() * sizeof(float) +
+           (shading_.capacity() + edge_normal_.capacity()) * sizeof(glm::vec3) +
+           displacement_.capacity() * sizeof(float) +
            shells_.capacity() * sizeof(CompactShell) + split_corners_.capacity() * sizeof(SplitCorner);
 }
 

@@ -56,6 +56,9 @@ struct TileLevel {
     std::vector<Vec3> draw;  ///< Loop only (interpolating schemes draw at position)
     std::vector<glm::vec3> shading;     ///< NodeRecord::shading_normal (a ray only reads it)
     std::vector<float> displacement;    ///< NodeRecord::displacement, rounded up
+    /// NodeRecord::edge_normal once per grid edge: by the edge's direction
+    /// (along x, along y, the diagonal), at its first grid point.
+    std::array<std::vector<glm::vec3>, 3> edge_normal;
     std::vector<CompactShell> shells;
 };
 
@@ -94,6 +97,8 @@ private:
     bool in_tile(const NodeId& id) const;
     std::size_t index_in_level(const NodeId& id) const;
     std::size_t vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const;
+    /// Where TileLevel::edge_normal keeps the edge from corner e to e + 1 of `id`.
+    std::pair<int, std::size_t> edge_slot(const NodeId& id, int e) const;
     NodeRecord assemble(const TileLevel& level, const NodeId& id) const;
     void build_level(int j);
     void ensure_level(int j) const;
@@ -127,6 +132,8 @@ private:
     std::vector<Vec3> draw_;    ///< Loop only
     std::vector<glm::vec3> shading_;  ///< per base vertex
     std::vector<float> displacement_;  ///< per base vertex
+    std::vector<glm::vec3> edge_normal_;      ///< per base triangle's edge (3f + e)
+    bool linear_shading_ = false;               ///< given normals (normal scheme)
     std::vector<CompactShell> shells_;
     /// Corners (slot 3f + c, ascending) whose normals are not their vertex's,
     /// on the far side of a crease.

@@ -184,17 +184,23 @@ struct WalkSetup {
     std::vector<std::array<Vec3, 3>>* drawn_out = nullptr;  ///< drawn mode
 };
 
-/// The error rule's constants (docs/tracer.md section 3, chosen by the
+/// The error rule's constants (docs/tracer.md section 3; chosen by the
 /// measurements in docs/benchmarks.md).
 /// The surface near an edge lies within this many times its corners' largest
 /// edge-point displacement of the chord: the edge points themselves, then the
 /// rest of a geometric series with ratio <= 1/2 (the shells' own bound).
 constexpr double k_series_factor = 2.0;
-/// Shading: an edge wider than this many pixels refines while the surface
-/// turns along it by more than k_max_turn radians times the tolerance (a
-/// circular arc of chord h and sagitta s turns by about 8 s / h).
+/// Pixels of deviation allowed per unit of tolerance. One sample per pixel
+/// shows a silhouette off by a small fraction of a pixel (a pixel whose
+/// centre it passes flips between surface and background), so at tolerance 1
+/// the rule asks 1/80 px, which renders the blob5k views as close to the
+/// reference as the size rule at tolerance 1 does.
+constexpr double k_deviation_px = 1.0 / 80.0;
+/// Shading: an edge wider than k_shading_min_px pixels refines while the
+/// surface turns along it by more than k_max_turn radians times the tolerance
+/// (an arc of chord h and sagitta s turns by about 8 s / h).
 constexpr double k_shading_min_px = 2.0;
-constexpr double k_max_turn = 0.1;
+constexpr double k_max_turn = 0.025;
 
 /// What a node's visit passes to its children's.
 struct FromParent {
@@ -251,19 +257,24 @@ struct Walk {
         return pixel_width(std::max(0.0, to_mid - 0.5 * length));
     }
 
-    /// Whether edge (a, b) refines, from data both of its triangles hold bit
-    /// for bit: its level-L endpoints and their displacement (NodeRecord).
-    bool edge_refines(const Vec3& a, const Vec3& b, float disp_a, float disp_b) const {
+    /// Whether edge e of a node refines, from data both of its triangles hold
+    /// bit for bit: its level-L endpoints and their displacement (NodeRecord).
+    bool edge_refines(const NodeRecord& rec, int e) const {
+        const int f = (e + 1) % 3;
+        const Vec3& a = rec.position[e];
+        const Vec3& b = rec.position[f];
         const double length = glm::length(b - a);
         const double pixel = pixel_width_at_edge(a, b, length);
         const double tolerance = s.options.tolerance;
         if (s.options.refine == RefineRule::size) return length > pixel * tolerance;
         // Error: the surface may lie farther than tolerance pixels from the
-        // chord, or it turns visibly along an edge wider than a few pixels.
-        const double deviation = k_series_factor * std::max(disp_a, disp_b);
-        if (deviation > tolerance * pixel) return true;
+        // chord drawn there (the same for every ray direction, so a secondary
+        // ray from a hit sees the surface its camera ray saw, within a level).
+        const double displacement = std::max(rec.displacement[e], rec.displacement[f]);
+        if (k_series_factor * displacement > k_deviation_px * tolerance * pixel) return true;
+        // Shading: the surface turns visibly along an edge wider than a few pixels.
         return length > k_shading_min_px * pixel &&
-               8.0 * std::max(disp_a, disp_b) > k_max_turn * tolerance * length;
+               8.0 * displacement > k_max_turn * tolerance * length;
     }
 
     bool shell_entry(const Shell& shell, const DrawnCorner* drawn, double& t_entry) const {
@@ -298,8 +309,7 @@ struct Walk {
         h.point = th.b0 * drawn[0].position + th.b1 * drawn[1].position + th.b2 * drawn[2].position;
         h.geometric_normal = finish_normal(glm::cross(drawn[1].position - drawn[0].position,
                                                       drawn[2].position - drawn[0].position));
-        h.normal = finish_normal(th.b0 * drawn[0].normal + th.b1 * drawn[1].normal +
-                                 th.b2 * drawn[2].normal);
+        h.normal = shading_normal(rec, drawn, th);
         if (h.normal == Vec3(0.0)) h.normal = h.geometric_normal;
         const Vec2 w = th.b0 * drawn[0].domain + th.b1 * drawn[1].domain + th.b2 * drawn[2].domain;
         if (s.mesh.has_uvs()) {
@@ -337,6 +347,31 @@ struct Walk {
         }
     }
 
+    /// The leaf's smooth normal at the hit. Where its corners are its own and
+    /// it has midpoint normals, the quadratic through the six (corners, edge
+    /// midpoints one level down): a coarse leaf then shades about as a leaf
+    /// one level finer would. Otherwise (snapped corners: the drawn triangle
+    /// is not the node's; the user's normals) the corners' linear blend.
+    static Vec3 shading_normal(const NodeRecord& rec, const DrawnCorner* drawn,
+                               const detail::TriangleHit& th) {
+        const double b[3] = {th.b0, th.b1, th.b2};
+        bool quadratic = !rec.linear_shading;
+        for (int c = 0; c < 3; ++c)
+            quadratic = quadratic && drawn[c].alive && rec.edge_normal[c] != glm::vec3(0.0f);
+        Vec3 sum(0.0);
+        for (int c = 0; c < 3; ++c) {
+            if (!quadratic) {
+                sum += b[c] * drawn[c].normal;
+                continue;
+            }
+            // Quadratic Lagrange weights: b(2b - 1) at a corner, 4 b b' at a midpoint.
+            const int d = (c + 1) % 3;
+            sum += b[c] * (2.0 * b[c] - 1.0) * drawn[c].normal +
+                   4.0 * b[c] * b[d] * Vec3(rec.edge_normal[c]);
+        }
+        return finish_normal(sum);
+    }
+
     /// How deep a shell is across the surface: its slab, or without one its box's diagonal.
     static double shell_depth(const Shell& shell) {
         if (shell.axis != Vec3(0.0)) return shell.thickness();
@@ -365,10 +400,7 @@ struct Walk {
         bool refine[3];
         bool any = false;
         for (int e = 0; e < 3; ++e) {
-            const int f = (e + 1) % 3;
-            refine[e] = edge_exists[e] &&
-                        edge_refines(rec.position[e], rec.position[f], rec.displacement[e],
-                                     rec.displacement[f]);
+            refine[e] = edge_exists[e] && edge_refines(rec, e);
             any = any || refine[e];
         }
         const bool capped = at_max_level && any;

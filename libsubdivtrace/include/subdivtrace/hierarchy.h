@@ -62,6 +62,16 @@ struct NodeRecord {
     /// a closed fan, else the Gouraud normal of the corner's triangles one
     /// level down; `normal` itself at max_level and for given normals.
     std::array<Vec3, 3> shading_normal;
+    /// The normal at the midpoint of edge e (corner e to e + 1) one level
+    /// down, from the edge point's ring as shading_normal is from a corner's
+    /// (zero where that ring has no area). A leaf whose corners are its own
+    /// shades with the quadratic through these six normals, which follows the
+    /// surface's normal inside it about 5x closer than the linear blend
+    /// (docs/tracer.md). Across a crease or boundary, from this side's
+    /// triangles only.
+    std::array<glm::vec3, 3> edge_normal{};
+    /// Shade with the corners' linear blend: the user's normals, as mesh2 does.
+    bool linear_shading = false;
     /// Per corner: the largest distance of a level-(L+1) edge point from its
     /// edge's midpoint over every edge at the corner (0 at max_level). The
     /// same bits in every record that holds the corner, so both sides of an

@@ -46,9 +46,11 @@ enum class CrackRule {
 /// each wins).
 enum class RefineRule {
     /// An edge refines while the surface near it may lie farther than
-    /// `tolerance` pixels of the ray's footprint from the chord drawn there, or
-    /// while the surface turns visibly along an edge wider than two pixels.
-    /// The default: a smooth surface stops at triangles many pixels wide.
+    /// tolerance / 80 pixels of the ray's footprint from the chord drawn
+    /// there, or while the surface turns along an edge wider than two pixels
+    /// by more than tolerance / 40 radians. The default: a smooth surface
+    /// stops at triangles many pixels wide, and at tolerance 1 renders as
+    /// close to the limit as the size rule at 1 (docs/benchmarks.md).
     error,
     /// The paper's rule: an edge refines while it is longer than `tolerance`
     /// pixels of the ray's footprint, whatever the surface's shape.
@@ -63,8 +65,9 @@ bool parse_refine_rule(const std::string& text, RefineRule& rule);
 struct SurfaceOptions {
     SchemeKind scheme = SchemeKind::normal;
     RefineRule refine = RefineRule::error;
-    /// In pixels of the ray's footprint: the largest distance between the
-    /// surface and what is drawn (error rule), or the longest edge drawn (size rule).
+    /// The quality knob, in pixels of the ray's footprint: the longest edge
+    /// drawn (size rule), or 80x the largest distance allowed between the
+    /// surface and what is drawn (error rule). Larger is faster and coarser.
     double tolerance = 1.0;
     /// Deepest level any ray may refine to (0 = the base mesh).
     int max_level = 8;
