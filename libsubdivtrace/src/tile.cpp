@@ -166,11 +166,13 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
         if (refinable && !d.has_displacement) stencil_cut("an edge point next to a corner");
         rec.displacement[c] = refinable ? round_up(d.displacement) : 0.0f;
     }
-    // The user's normals shade linearly, as mesh2 does; zero says so.
+    // The user's normals shade linearly, as mesh2 does; so does max_level,
+    // which draws the uniform level-max_level mesh as it is.
     const bool given = ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals() && p.level == 0;
+    const bool quadratic = tri.id.level < ctx.max_level && !given;
     for (int e = 0; e < 3; ++e)
-        rec.edge_normal[e] = glm::vec3(next ? edge_midpoint_normal(ctx, p, *next, t, e) : Vec3(0.0));
-    rec.linear_shading = given;
+        rec.edge_normal[e] = glm::vec3(quadratic ? edge_midpoint_normal(ctx, p, *next, t, e) : Vec3(0.0));
+    rec.linear_shading = !quadratic;
 
     // Slab axis: the node's own plane (or its corners' mean normal if it is degenerate).
     Shell& shell = rec.shell;
@@ -510,7 +512,8 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     shading_.resize(vertex_count);
     displacement_.resize(vertex_count);
     edge_normal_.resize(3 * face_count);
-    linear_shading_ = ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals();
+    linear_shading_ = (ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals()) ||
+                      ctx.max_level == 0;
     if (ctx.scheme == SchemeKind::loop) draw_.resize(vertex_count);
     shells_.resize(face_count);
     // In chunks of base triangles, each with the border its records read:

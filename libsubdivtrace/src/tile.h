@@ -133,7 +133,7 @@ private:
     std::vector<glm::vec3> shading_;  ///< per base vertex
     std::vector<float> displacement_;  ///< per base vertex
     std::vector<glm::vec3> edge_normal_;      ///< per base triangle's edge (3f + e)
-    bool linear_shading_ = false;               ///< given normals (normal scheme)
+    bool linear_shading_ = false;  ///< given normals (normal scheme), or max_level 0
     std::vector<CompactShell> shells_;
     /// Corners (slot 3f + c, ascending) whose normals are not their vertex's,
     /// on the far side of a crease.

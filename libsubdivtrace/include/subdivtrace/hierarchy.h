@@ -70,7 +70,8 @@ struct NodeRecord {
     /// (docs/tracer.md). Across a crease or boundary, from this side's
     /// triangles only.
     std::array<glm::vec3, 3> edge_normal{};
-    /// Shade with the corners' linear blend: the user's normals, as mesh2 does.
+    /// Shade with the corners' linear blend: the user's normals (as mesh2
+    /// does), and at max_level (the uniform level-max_level mesh as it is).
     bool linear_shading = false;
     /// Per corner: the largest distance of a level-(L+1) edge point from its
     /// edge's midpoint over every edge at the corner (0 at max_level). The
