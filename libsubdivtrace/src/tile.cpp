@@ -364,14 +364,17 @@ void Tile::build_level(int j) {
 
 std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, int e) const {
     const auto grid = node_corner_grid(id);
-    const std::array<std::uint32_t, 2>& p = grid[e];
-    const std::array<std::uint32_t, 2>& q = grid[(e + 1) % 3];
+    return edge_slot(id, grid[e], grid[(e + 1) % 3]);
+}
+
+std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, const GridPoint& p,
+                                            const GridPoint& q) const {
     // Grid coordinates: the direction is the same in the root's local frame
     // (a "down" root's is point-reflected, which keeps each direction).
     const int direction = p[1] == q[1] ? 0 : p[0] == q[0] ? 1 : 2;
     // The first point: the smaller j, or on a row the smaller i.
     const bool p_first = p[1] != q[1] ? p[1] < q[1] : p[0] < q[0];
-    const auto& first = p_first ? p : q;
+    const GridPoint& first = p_first ? p : q;
     return {direction, vertex_index(id, first[0], first[1])};
 }
 
@@ -391,25 +394,32 @@ void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const 
     // midpoints, at the children's level.
     const auto g = node_corner_grid(parent);
     const NodeId first = child_of(parent, 0);
+    GridPoint corner_grid[3], mid_grid[3];
     std::size_t corner[3], mid[3];
     for (int c = 0; c < 3; ++c) {
         const int d = (c + 1) % 3;
-        corner[c] = vertex_index(first, 2 * g[c][0], 2 * g[c][1]);
-        mid[c] = vertex_index(first, g[c][0] + g[d][0], g[c][1] + g[d][1]);
+        corner_grid[c] = {2 * g[c][0], 2 * g[c][1]};
+        mid_grid[c] = {g[c][0] + g[d][0], g[c][1] + g[d][1]};
+        corner[c] = vertex_index(first, corner_grid[c][0], corner_grid[c][1]);
+        mid[c] = vertex_index(first, mid_grid[c][0], mid_grid[c][1]);
     }
     for (int c = 0; c < 4; ++c) {
         const NodeId child = c == 0 ? first : child_of(parent, c);
         const auto& map = child_corners(parent.down, c);
         NodeRecord& rec = out[c];
+        const GridPoint* at[3];
         for (int k = 0; k < 3; ++k) {
             const std::size_t v = map[k].is_edge ? mid[map[k].index] : corner[map[k].index];
+            at[k] = map[k].is_edge ? &mid_grid[map[k].index] : &corner_grid[map[k].index];
             rec.position[k] = level.position[v];
             rec.normal[k] = level.normal[v];
             rec.shading_normal[k] = Vec3(level.shading[v]);
             rec.displacement[k] = level.displacement[v];
             rec.draw_position[k] = level.draw.empty() ? level.position[v] : level.draw[v];
-            const auto [direction, at] = edge_slot(child, k);
-            rec.edge_normal[k] = level.edge_normal[direction][at];
+        }
+        for (int k = 0; k < 3; ++k) {
+            const auto [direction, slot] = edge_slot(child, *at[k], *at[(k + 1) % 3]);
+            rec.edge_normal[k] = level.edge_normal[direction][slot];
         }
         rec.shell = level.shells[index_in_level(child)].expand(origin_);
     }
@@ -425,8 +435,8 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
         rec.shading_normal[c] = Vec3(level.shading[v]);
         rec.displacement[c] = level.displacement[v];
         rec.draw_position[c] = level.draw.empty() ? level.position[v] : level.draw[v];
-        const auto [direction, at] = edge_slot(id, c);
-        rec.edge_normal[c] = level.edge_normal[direction][at];
+        const auto [direction, slot] = edge_slot(id, grid[c], grid[(c + 1) % 3]);
+        rec.edge_normal[c] = level.edge_normal[direction][slot];
     }
     rec.shell = level.shells[index_in_level(id)].expand(origin_);
     return rec;

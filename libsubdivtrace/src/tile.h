@@ -97,8 +97,12 @@ private:
     bool in_tile(const NodeId& id) const;
     std::size_t index_in_level(const NodeId& id) const;
     std::size_t vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const;
-    /// Where TileLevel::edge_normal keeps the edge from corner e to e + 1 of `id`.
+    using GridPoint = std::array<std::uint32_t, 2>;
+    /// Where TileLevel::edge_normal keeps the edge from corner e to e + 1 of
+    /// `id`, or the edge between grid points p and q of id's level.
     std::pair<int, std::size_t> edge_slot(const NodeId& id, int e) const;
+    std::pair<int, std::size_t> edge_slot(const NodeId& id, const GridPoint& p,
+                                          const GridPoint& q) const;
     NodeRecord assemble(const TileLevel& level, const NodeId& id) const;
     void build_level(int j);
     void ensure_level(int j) const;
