@@ -178,3 +178,68 @@ TEST_CASE("a node's ancestor by grid arithmetic is the one its child path went t
     CHECK(checked == 2000 * 55);
     CHECK(wrong == 0);
 }
+
+TEST_CASE("shading normals are the next level's normals at a node's corners and edge midpoints",
+          "[hierarchy][shading]") {
+    // The interpolating schemes' shading normals are their normals one level
+    // down (Loop's corners use limit normals instead, not checked here): the
+    // uniform level-(L+1) mesh is the independent truth, triangle 4t + c
+    // being child c of level-L triangle t.
+    struct Case {
+        const char* name;
+        Mesh mesh;
+    };
+    const std::vector<Case> corpus = {
+        {"irregular 3..12", testmesh::irregular_closed(3)},
+        {"torus", testmesh::torus(8, 6, 1.0, 0.35)},
+        {"open grid (boundary)", testmesh::open_grid(4)},
+        {"cylinder, split rim normals (creases)", testmesh::split_normal_cylinder(9, 1.0, 0.5)},
+    };
+    const auto angle = [](const Vec3& a, const Vec3& b) {
+        return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+    };
+    for (const Case& c : corpus) {
+        for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::butterfly}) {
+            const Hierarchy hierarchy(c.mesh, scheme, 4, std::size_t{64} << 20);
+            double worst_corner = 0.0, worst_edge = 0.0;
+            for (int level = 1; level <= 2; ++level) {
+                const SubdividedMesh next = subdivide_uniform(c.mesh, scheme, level + 1);
+                const std::size_t count = c.mesh.triangles.size() << (2 * level);
+                for (std::size_t t = 0; t < count; ++t) {
+                    const NodeId id = node_of_uniform_triangle(t, level);
+                    const NodeRecord rec = hierarchy.node(id);
+                    std::array<NodeRecord, 4> children;
+                    hierarchy.children(id, children);
+                    for (int ch = 0; ch < 4; ++ch) {
+                        const std::size_t u = 4 * t + static_cast<std::size_t>(ch);
+                        const auto& map = child_corners(id.down, ch);
+                        for (int k = 0; k < 3; ++k) {
+                            // The uniform corner at this child's corner k (same position).
+                            int match = 0;
+                            double best = 1e300;
+                            for (int q = 0; q < 3; ++q) {
+                                const double d = glm::length(next.positions[next.triangles[u][q]] -
+                                                             children[ch].position[k]);
+                                if (d < best) best = d, match = q;
+                            }
+                            REQUIRE(best < 1e-12);
+                            const Vec3 truth = next.corner_normals[3 * u + static_cast<std::size_t>(match)];
+                            const int index = map[k].index;
+                            if (map[k].is_edge) {
+                                worst_edge = std::max(worst_edge, angle(Vec3(rec.edge_normal[index]), truth));
+                            } else {
+                                worst_corner = std::max(worst_corner, angle(rec.shading_normal[index], truth));
+                            }
+                        }
+                    }
+                    CHECK_FALSE(rec.linear_shading);
+                }
+            }
+            INFO(c.name << " " << scheme_name(scheme) << ": worst corner " << worst_corner
+                        << " rad, worst edge midpoint " << worst_edge << " rad");
+            // Stored as float: a few float roundings, nothing more.
+            CHECK(worst_corner < 1e-6);
+            CHECK(worst_edge < 1e-6);
+        }
+    }
+}
