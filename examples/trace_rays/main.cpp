@@ -33,8 +33,9 @@ int main(int argc, char** argv) {
         const double radius = 0.5 * glm::length(box.hi - box.lo);
         const Vec3 camera = centre + Vec3(0.0, 0.0, 2.0 * radius);
 
-        // The surface refines each ray's triangles until an edge spans less
-        // than `tolerance` pixels of this view (40 degrees over 640 pixels).
+        // The surface refines each ray's triangles until they lie close
+        // enough to the limit surface for `tolerance` pixels of this view (40
+        // degrees over 640 pixels; docs/tracer.md, the error rule).
         SurfaceOptions options;
         options.scheme = SchemeKind::normal;
         options.tolerance = 1.0;
