@@ -3,15 +3,27 @@
 #
 #   compare/run.sh BUILD_DIR [--quick] [--reuse] [--no-povray]
 #
-# Renders data/blob5k.obj from two views (far: the whole mesh; close: the mesh
-# fills the frame and a silhouette crosses it), one render at a time:
-#   ref       adaptive at tolerance 0.25, max level 10 (the reference image)
-#   adaptive  tolerance 8 4 2 1 0.5 (--quick: 4 2 1 0.5), node cache $CACHE_MB
-#             (64 MB), and tolerance 1 with a 16 MB cache (lowmem_t1)
-#   uniform   levels 0..6 (--quick: 0..4); a level whose memory, extrapolated
-#             from the level before (x4), would exceed ~6 GB is skipped
-#   levels_t1 tolerance 1 in false colours by leaf level (render --color-by
-#             level), legend in levels_t1.txt
+# Renders three views, one render at a time: data/blob5k.obj from far (the
+# whole mesh) and close (the mesh fills the frame and a silhouette crosses
+# it), and "fine": an already-fine mesh, a modeller-style export of a vase
+# whose triangles are 1-3 px wide in its camera (data/make_fine_mesh.py,
+# generated into BUILD_DIR/compare/meshes/; --quick: a coarser one for the
+# smaller image). Per view:
+#   ref       the paper's size rule at tolerance 0.25, max level 10 (the
+#             reference image, the same whichever rule is under test)
+#   adaptive  the error rule (--refine error, the default) at tolerance
+#             8 4 2 1 0.5 (--quick: 4 2 1 0.5), node cache $CACHE_MB (64 MB),
+#             and tolerance 1 with a 16 MB cache (lowmem_t1)
+#   size      the size rule (--refine size) at the same tolerances (--quick:
+#             2 1)
+#   uniform   levels 0..6 (--quick: 0..4; fine: 0..2); a level whose memory,
+#             extrapolated from the level before (x4), would exceed ~6 GB is
+#             skipped
+#   levels_t1 error rule at tolerance 1 in false colours by leaf level (render
+#             --color-by level), legend in levels_t1.txt
+#   error_t1  error rule at tolerance 1 in false colours by each hit's
+#             certified error bound in pixels (--color-by error), legend in
+#             error_t1.txt
 #   embree    if BUILD_DIR/bin/embree_render exists (Embree 3 found at build
 #             time): the uniform levels in Embree's BVH (embree_uniform_l*),
 #             and Embree's Catmull-Clark subdivision of the base mesh with
@@ -52,20 +64,22 @@ cli="${SUBDIVTRACE_CLI:-$build/bin/subdivtrace}"
 embree="${EMBREE_RENDER:-$build/bin/embree_render}"
 [[ -x "$embree" ]] || embree=""
 py=/usr/bin/python3
-mesh="$repo/data/blob5k.obj"
+mesh="$repo/data/blob5k.obj"  # far, close and the POV-Ray sweep
 out="$build/compare"
 mkdir -p "$out"
 # A fresh run starts from no renders: a view's directory left by the other
 # mode (--quick renders 320x240, the full run 640x480) would mix sizes.
 if [[ $reuse == 0 ]]; then
-    rm -rf "$out/far" "$out/close" "$out/povray"
+    rm -rf "$out/far" "$out/close" "$out/fine" "$out/povray" "$out/meshes"
 fi
 
 if [[ $quick == 1 ]]; then
     size=(--width 320 --height 240)
     ref_tol=0.25 ref_level=10
     tolerances=(4 2 1 0.5)
+    size_tolerances=(2 1)
     levels=(0 1 2 3 4)
+    fine_around=90
     pov_size=(+W240 +H180)
     pov_tols=(2 1)
     pov_levels=(0 1 2 3)
@@ -74,7 +88,9 @@ else
     size=(--width 640 --height 480)
     ref_tol=0.25 ref_level=10
     tolerances=(8 4 2 1 0.5)
+    size_tolerances=(8 4 2 1 0.5)
     levels=(0 1 2 3 4 5 6)
+    fine_around=180
     pov_size=(+W320 +H240)
     pov_tols=(4 2 1)
     pov_levels=(0 1 2 3 4)
@@ -94,14 +110,35 @@ lowmem_cache_mb=16
 # view name -> camera options. Both explicit: the CLI's default camera frames
 # the bounding box of the mesh it renders, which for --uniform K is the level-K
 # mesh's (slightly smaller), so default framing would differ between renders.
-views=(far close)
+views=(far close fine)
 declare -A camera=(
     [far]="--look-from 5.1,3.5,7.3 --look-at 0.02,0.15,-0.07 --fov 40"
     [close]="--look-from 3.0,1.2,1.4 --look-at 0.7,0.5,0.0 --fov 35"
+    [fine]="--look-from 0,3.53,6.95 --look-at 0,0.95,0 --fov 40"
 )
+# view name -> mesh. The fine view's mesh is generated here (5.3 MB at
+# 640x480, so not in the repository): 180 vertices around at 640x480, 90 at
+# 320x240, so its triangles are 1-3 px wide either way.
+fine_mesh="$out/meshes/vase_a$fine_around.obj"
+declare -A view_mesh=(
+    [far]="$mesh"
+    [close]="$mesh"
+    [fine]="$fine_mesh"
+)
+# view name -> uniform levels (the fine mesh is already fine: 0..2)
+declare -A view_levels=(
+    [far]="${levels[*]}"
+    [close]="${levels[*]}"
+    [fine]="0 1 2"
+)
+if [[ ! -s "$fine_mesh" ]]; then
+    mkdir -p "$out/meshes"
+    "$py" "$repo/data/make_fine_mesh.py" "$fine_mesh" --around "$fine_around"
+fi
 
 {
     echo "mesh=$mesh"
+    for v in "${views[@]}"; do echo "mesh_$v=${view_mesh[$v]}"; done
     echo "size=${size[*]}"
     echo "quick=$quick"
     echo "date=$(date -Is)"
@@ -136,7 +173,7 @@ render() {
     local try
     for try in 1 2 3; do
         # shellcheck disable=SC2086
-        if "${program[@]}" "$mesh" -o "$dir/$name.png" "${size[@]}" ${camera[$view]} "$@" \
+        if "${program[@]}" "${view_mesh[$view]}" -o "$dir/$name.png" "${size[@]}" ${camera[$view]} "$@" \
             --stats-json "$dir/$name.json" --quiet 2> "$dir/$name.log"; then
             "$py" - "$dir/$name.json" "$view/$name" "$(elapsed)" <<'EOF'
 import json, sys
@@ -154,20 +191,22 @@ EOF
     return 1
 }
 
-# levels VIEW: the paper's Fig. 2, the level of the leaf each pixel hit at
-# tolerance 1 (render --color-by level), legend in levels_t1.txt.
-levels() {
-    local view=$1 dir="$out/$1"
+# false_colour VIEW NAME WHAT: the error rule at tolerance 1 in false colours
+# (render --color-by WHAT), legend in NAME.txt. levels_t1 (WHAT level) is the
+# paper's Fig. 2, the level of the leaf each pixel hit; error_t1 (WHAT error)
+# each hit's certified bound on its distance to the surface, in pixels.
+false_colour() {
+    local view=$1 name=$2 what=$3 dir="$out/$1"
     mkdir -p "$dir"
-    if [[ $reuse == 1 && -s "$dir/levels_t1.png" && -s "$dir/levels_t1.txt" ]]; then
-        echo "[$(elapsed)] $view/levels_t1: reused"
+    if [[ $reuse == 1 && -s "$dir/$name.png" && -s "$dir/$name.txt" ]]; then
+        echo "[$(elapsed)] $view/$name: reused"
         return 0
     fi
     # shellcheck disable=SC2086
-    "$cli" render "$mesh" -o "$dir/levels_t1.png" "${size[@]}" ${camera[$view]} --tolerance 1 \
-        --max-level "$ref_level" --cache-mb "$cache_mb" --color-by level --quiet \
-        > "$dir/levels_t1.txt" 2> "$dir/levels_t1.log"
-    echo "[$(elapsed)] $view/levels_t1: $(grep 'mean level' "$dir/levels_t1.txt" | sed 's/^ *//')"
+    "$cli" render "${view_mesh[$view]}" -o "$dir/$name.png" "${size[@]}" ${camera[$view]} \
+        --refine error --tolerance 1 --max-level "$ref_level" --cache-mb "$cache_mb" \
+        --color-by "$what" --quiet > "$dir/$name.txt" 2> "$dir/$name.log"
+    echo "[$(elapsed)] $view/$name: $(tail -n 1 "$dir/$name.txt" | sed 's/^ *//')"
 }
 
 # uniform_level VIEW PREFIX K: the level-K mesh (PREFIX uniform_l: our BVH,
@@ -190,13 +229,20 @@ uniform_level() {
 
 for view in "${views[@]}"; do
     echo "== view $view (${camera[$view]:-default camera})"
-    render "$view" ref --tolerance "$ref_tol" --max-level "$ref_level" --cache-mb "$cache_mb"
-    levels "$view"
+    render "$view" ref --refine size --tolerance "$ref_tol" --max-level "$ref_level" --cache-mb "$cache_mb"
+    false_colour "$view" levels_t1 level
+    false_colour "$view" error_t1 error
     for t in "${tolerances[@]}"; do
-        render "$view" "adaptive_t$t" --tolerance "$t" --max-level "$ref_level" --cache-mb "$cache_mb"
+        render "$view" "adaptive_t$t" --refine error --tolerance "$t" --max-level "$ref_level" \
+            --cache-mb "$cache_mb"
     done
-    render "$view" lowmem_t1 --tolerance 1 --max-level "$ref_level" --cache-mb "$lowmem_cache_mb"
-    for k in "${levels[@]}"; do
+    for t in "${size_tolerances[@]}"; do
+        render "$view" "size_t$t" --refine size --tolerance "$t" --max-level "$ref_level" \
+            --cache-mb "$cache_mb"
+    done
+    render "$view" lowmem_t1 --refine error --tolerance 1 --max-level "$ref_level" \
+        --cache-mb "$lowmem_cache_mb"
+    for k in ${view_levels[$view]}; do
         uniform_level "$view" uniform_l "$k"
         if [[ -n $embree ]]; then uniform_level "$view" embree_uniform_l "$k"; fi
     done
