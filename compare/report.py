@@ -3,9 +3,12 @@
 
 usage: /usr/bin/python3 compare/report.py BUILD_DIR/compare
 
-Reads <view>/{ref,adaptive_t*,uniform_l*,embree_*}.{png,json} (and
-povray/*.png, *.log if present), writes diff_*.png heat maps next to the renders, plot_*.png,
-results.csv, report.md and report.html into the same directory.
+Reads <view>/{ref,adaptive_t*,size_t*,lowmem_t*,uniform_l*,embree_*}.{png,json}
+(and levels_t1, error_t1 .png/.txt, povray/*.png, *.log if present), writes
+diff_*.png heat maps next to the renders, plot_*.png, results.csv, report.md and
+report.html into the same directory. adaptive_t* are the error rule (render
+--refine error), size_t* the paper's size rule (--refine size); the tables that
+compare "adaptive" with uniform and Embree use the error rule's renders.
 
 Image error: RGB in [0, 1]; RMSE over all pixels and channels; max = the
 largest per-pixel difference (max over channels). Heat maps show the per-pixel
@@ -32,7 +35,10 @@ HEAT_MAX = 0.05
 VIEW_TITLES = {
     "far": "far view (whole mesh in frame)",
     "close": "close-up (mesh fills the frame, silhouette crosses it)",
+    "fine": "already-fine mesh (a modeller-style export, triangles 1-3 px wide)",
 }
+VIEWS = ("far", "close", "fine")
+RULE_NAMES = {"error": "error rule", "size": "size rule (paper)"}
 
 
 def load_rgb(path):
@@ -70,9 +76,13 @@ class Run:
         self.png = os.path.join(directory, name + ".png")
         with open(os.path.join(directory, name + ".json")) as f:
             self.s = json.load(f)
+        self.rule = self.s.get("refine", "") if self.s.get("mode") != "uniform" else ""
         if name.startswith("adaptive_t"):
             self.kind, self.param = "adaptive", float(name[len("adaptive_t"):])
             self.label = "tol %g" % self.param
+        elif name.startswith("size_t"):
+            self.kind, self.param = "size", float(name[len("size_t"):])
+            self.label = "size rule, tol %g" % self.param
         elif name.startswith("lowmem_t"):
             self.kind, self.param = "lowmem", float(name[len("lowmem_t"):])
             self.label = "tol %g, cache %d MB" % (self.param, self.s.get("cache_mb", 16))
@@ -87,7 +97,8 @@ class Run:
             self.label = "Embree Catmull-Clark, %g px" % self.param
         else:
             self.kind, self.param = "ref", self.s.get("tolerance")
-            self.label = "reference (tol %g, max level %d)" % (self.s["tolerance"], self.s["max_level"])
+            self.label = "reference (%s, tol %g, max level %d)" % (
+                RULE_NAMES.get(self.rule, self.rule or "?"), self.s["tolerance"], self.s["max_level"])
         self.rmse = self.maxdiff = float("nan")
         self.rmse_own = float("nan")  # Embree subdivision: against its own finest render
         self.diff_png = None
@@ -97,6 +108,11 @@ class Run:
         if key in s:
             return s[key]
         raise AttributeError(key)
+
+    def stat(self, key):
+        """A --stats-json field, NaN when absent (older CLI, uniform mode)."""
+        v = self.s.get(key)
+        return float("nan") if v is None else v
 
     @property
     def work(self):
@@ -114,6 +130,7 @@ def load_view(out, view):
     ref_img = load_rgb(ref.png)
     runs = []
     for j in sorted(glob.glob(os.path.join(d, "adaptive_t*.json"))) + sorted(
+            glob.glob(os.path.join(d, "size_t*.json"))) + sorted(
             glob.glob(os.path.join(d, "lowmem_t*.json"))) + sorted(
             glob.glob(os.path.join(d, "uniform_l*.json"))) + sorted(
             glob.glob(os.path.join(d, "embree_*.json"))):
@@ -126,6 +143,7 @@ def load_view(out, view):
         heat_map(diff, r.diff_png)
         runs.append(r)
     adaptive = sorted([r for r in runs if r.kind == "adaptive"], key=lambda r: -r.param)
+    size = sorted([r for r in runs if r.kind == "size"], key=lambda r: -r.param)
     uniform = sorted([r for r in runs if r.kind == "uniform"], key=lambda r: r.param)
     lowmem = [r for r in runs if r.kind == "lowmem"]
     e_uniform = sorted([r for r in runs if r.kind == "embree_uniform"], key=lambda r: r.param)
@@ -136,7 +154,7 @@ def load_view(out, view):
         own_ref = load_rgb(e_subdiv[-1].png)
         for r in e_subdiv:
             r.rmse_own = image_error(load_rgb(r.png), own_ref)[0]
-    return ref, adaptive, uniform, lowmem, e_uniform, e_subdiv
+    return ref, adaptive, size, uniform, lowmem, e_uniform, e_subdiv
 
 
 def closest(uniform, a):
@@ -155,11 +173,13 @@ def cheapest_at_most(uniform, a):
     return None
 
 
-def plot_view(out, view, adaptive, uniform, lowmem, x_key, x_label, path, e_uniform=(), e_subdiv=()):
+def plot_view(out, view, adaptive, uniform, lowmem, x_key, x_label, path, e_uniform=(), e_subdiv=(),
+              size=()):
     fig, ax = plt.subplots(figsize=(6.4, 4.6), dpi=100)
     own = [r for r in e_subdiv if r.rmse_own > 0]
     for runs, style, name, err in (
-            (adaptive, "o-", "adaptive (tolerance, px)", "rmse"),
+            (adaptive, "o-", "error rule (tolerance, px)", "rmse"),
+            (size, "v-", "size rule (paper) (tolerance, px)", "rmse"),
             (uniform, "s--", "uniform subdivision + BVH (level)", "rmse"),
             (e_uniform, "^-.", "uniform level in Embree's BVH (level)", "rmse"),
             (own, "D:", "Embree Catmull-Clark (px/segment; RMSE vs its own finest)", "rmse_own")):
@@ -171,7 +191,7 @@ def plot_view(out, view, adaptive, uniform, lowmem, x_key, x_label, path, e_unif
         for r, x, y in zip(runs, xs, ys):
             ax.annotate(("%g" % r.param), (x, y), textcoords="offset points", xytext=(5, 4), fontsize=8)
     for r in lowmem:
-        ax.plot([getattr(r, x_key)], [r.rmse], "*", markersize=11, label="adaptive, " + r.label)
+        ax.plot([getattr(r, x_key)], [r.rmse], "*", markersize=11, label="error rule, " + r.label)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel(x_label)
@@ -410,60 +430,106 @@ def main():
             "<figure><img src='%s'><figcaption>%s</figcaption></figure>"
             % (html.escape(rel(out, p)), html.escape(c)) for p, c in items) + "</div>")
 
-    para("Mesh: %s. Image %s. Machine: %s; %s. Load average before/after: %s / %s "
+    meshes = ", ".join("%s: %s" % (v, os.path.basename(info["mesh_" + v])) for v in VIEWS
+                       if info.get("mesh_" + v)) or os.path.basename(info.get("mesh", "?"))
+    para("Meshes: %s. Image %s. Machine: %s; %s. Load average before/after: %s / %s "
          "(the machine is shared: absolute times are noisy, compare ratios). Commit %s, %s."
-         % (os.path.basename(info.get("mesh", "?")), info.get("size", "?"), info.get("host", "?"),
+         % (meshes, info.get("size", "?"), info.get("host", "?"),
             info.get("cpu", "?"), info.get("load_before", "?"), info.get("load_after", "?"),
             info.get("commit", "?"), info.get("date", "?")))
     para("Image error: RGB in [0,1] against the reference render; RMSE over all pixels and "
          "channels, max = largest per-pixel difference. Heat maps: per-pixel max-channel "
          "|difference|, inferno colour map, black = 0, yellow = %g or more. Ratios are "
          "adaptive / uniform (below 1 = the adaptive tracer uses less)." % HEAT_MAX)
+    para("Two refinement rules: the error rule (render --refine error, the default: refine "
+         "while the surface may lie farther than the tolerance in pixels from what is drawn) "
+         "and the paper's size rule (--refine size: refine while an edge is longer than the "
+         "tolerance in pixels). 'adaptive' below means the error rule. The reference is the "
+         "size rule at tolerance 0.25, max level 10, whichever rule is under test.")
 
     csv_rows = []
     summary = {}
-    for view in ("far", "close"):
+    rule_summary = []
+    for view in VIEWS:
         loaded = load_view(out, view)
         if loaded is None:
             continue
-        ref, adaptive, uniform, lowmem, e_uniform, e_subdiv = loaded
+        ref, adaptive, size, uniform, lowmem, e_uniform, e_subdiv = loaded
         title = VIEW_TITLES.get(view, view)
         md.extend(["## %s" % title, ""])
         h.append("<h2>%s</h2>" % html.escape(title))
-        para("Camera: %s. Reference: %s, %s s total, %s MB peak, %s nodes built, deepest level %s."
-             % (info.get("camera_" + view) or "default (frames the whole mesh)", ref.label,
+        para("Mesh: %s. Camera: %s. Reference: %s, %s s total, %s MB peak, %s nodes built, deepest level %s."
+             % (os.path.basename(info.get("mesh_" + view) or info.get("mesh", "?")),
+                info.get("camera_" + view) or "default (frames the whole mesh)", ref.label,
                 fmt(ref.total_seconds), fmt(ref.peak_rss_mb), fmt(ref.work), ref.s.get("deepest_level")))
 
         p_time = os.path.join(out, "plot_%s_time.png" % view)
         p_mem = os.path.join(out, "plot_%s_memory.png" % view)
         plot_view(out, view, adaptive, uniform, lowmem, "total_seconds", "total seconds (build + trace)",
-                  p_time, e_uniform, e_subdiv)
+                  p_time, e_uniform, e_subdiv, size)
         plot_view(out, view, adaptive, uniform, lowmem, "peak_rss_mb", "peak RSS (MB)", p_mem,
-                  e_uniform, e_subdiv)
+                  e_uniform, e_subdiv, size)
         images([(p_time, "RMSE vs total time"), (p_mem, "RMSE vs peak memory")])
+
+        # Both rules side by side, with each render's certified bound.
+        md.extend(["### Error rule vs size rule", ""])
+        h.append("<h3>Error rule vs size rule</h3>")
+        para("Each rule at each tolerance: work, time, memory and image error against the "
+             "reference, and beside the measured error the certified bound the render reports "
+             "(error_bound_px_max / error_bound_px_mean in --stats-json: every hit's bound on its "
+             "distance to the subdivision surface, in pixels; max over hits, mean over hits). "
+             "The bound is geometric (pixels of distance), the measured error photometric (RGB "
+             "difference, which also includes shading-normal error), so they are shown side "
+             "by side, not as the same quantity. 'hits at max level': hits whose leaf is at the "
+             "max level (10), where the rule stopped refining, not the tolerance.")
+        rows = []
+        for r in adaptive + size:
+            rows.append([RULE_NAMES.get(r.rule, r.rule), "%g" % r.param, fmt(r.work),
+                         fmt(r.total_seconds), fmt(r.peak_rss_mb), fmt(r.rmse), fmt(r.maxdiff),
+                         fmt(r.stat("error_bound_px_max")), fmt(r.stat("error_bound_px_mean")),
+                         str(r.s.get("deepest_level", "-")), fmt(r.s.get("hits_at_max_level"))])
+        table(["rule", "tolerance (px)", "nodes built", "total s", "peak MB", "RMSE vs reference",
+               "measured max per-pixel error", "certified bound max (px)",
+               "certified bound mean (px)", "deepest level", "hits at max level"], rows)
+        e1 = [r for r in adaptive if r.param == 1.0]
+        s1 = [r for r in size if r.param == 1.0]
+        if e1 and s1:
+            e1, s1 = e1[0], s1[0]
+            para("Tolerance 1, error rule / size rule: nodes built %s / %s = %s, total time "
+                 "%s s / %s s = %s; RMSE %s (error rule) vs %s (size rule); certified bound max "
+                 "%s px vs %s px."
+                 % (fmt(e1.work), fmt(s1.work), fmt(ratio(e1.work, s1.work)),
+                    fmt(e1.total_seconds), fmt(s1.total_seconds),
+                    fmt(ratio(e1.total_seconds, s1.total_seconds)), fmt(e1.rmse), fmt(s1.rmse),
+                    fmt(e1.stat("error_bound_px_max")), fmt(s1.stat("error_bound_px_max"))))
+            rule_summary.append((view, e1, s1))
 
         md.extend(["### All renders", ""])
         h.append("<h3>All renders</h3>")
         rows = []
-        for r in [ref] + adaptive + lowmem + uniform + e_uniform + e_subdiv:
+        for r in [ref] + adaptive + size + lowmem + uniform + e_uniform + e_subdiv:
             rmse = fmt(r.rmse, 3) if r.kind != "ref" else "0"
             if r.kind == "embree_subdiv":
                 rmse = "%s (own: %s)" % (rmse, fmt(r.rmse_own, 3))
-            rows.append([r.kind, r.label if r.kind != "ref" else "reference",
+            rows.append([r.kind, r.rule or "-", r.label if r.kind != "ref" else "reference",
                          rmse, fmt(r.maxdiff, 3) if r.kind != "ref" else "0",
                          fmt(r.total_seconds), fmt(r.build_seconds), fmt(r.trace_seconds),
                          fmt(r.rays_per_second / 1e6, 3), fmt(r.peak_rss_mb),
                          fmt(r.work), fmt(r.s.get("nodes_visited_per_ray")),
                          str(r.s.get("deepest_level", r.param))])
-            csv_rows.append({"view": view, "kind": r.kind, "param": r.param, "rmse": r.rmse,
+            csv_rows.append({"view": view, "kind": r.kind, "rule": r.rule, "param": r.param,
+                             "rmse": r.rmse,
                              "max_diff": r.maxdiff, "total_s": r.total_seconds,
                              "build_s": r.build_seconds, "trace_s": r.trace_seconds,
                              "rays_per_s": r.rays_per_second, "peak_rss_mb": r.peak_rss_mb,
                              "nodes_or_triangles": r.work, "rays": r.rays,
                              "deepest_level": r.s.get("deepest_level"),
                              "peak_above_baseline_mb": r.s.get("peak_rss_above_baseline_mb"),
-                             "rmse_own_surface": r.rmse_own})
-        table(["kind", "setting", "RMSE", "max diff", "total s", "build s", "trace s", "Mrays/s",
+                             "rmse_own_surface": r.rmse_own,
+                             "error_bound_px_max": r.s.get("error_bound_px_max"),
+                             "error_bound_px_mean": r.s.get("error_bound_px_mean"),
+                             "hits_at_max_level": r.s.get("hits_at_max_level")})
+        table(["kind", "rule", "setting", "RMSE", "max diff", "total s", "build s", "trace s", "Mrays/s",
                "peak MB", "nodes built / uniform tris", "nodes visited/ray", "deepest level"], rows)
         if e_subdiv:
             para("Embree Catmull-Clark renders: RMSE against our reference measures mostly the "
@@ -496,7 +562,7 @@ def main():
         table(["adaptive", "RMSE", "closest uniform", "RMSE", "uniform <= err",
                "total time ratio", "trace time ratio", "rays/s ratio", "peak memory ratio",
                "nodes built vs uniform triangles"], rows, classes)
-        baseline = min(r.peak_rss_mb for r in [ref] + adaptive + lowmem + uniform)
+        baseline = min(r.peak_rss_mb for r in [ref] + adaptive + size + lowmem + uniform)
         md.extend(["### Uniform level vs the fastest adaptive render at least as accurate", ""])
         h.append("<h3>Uniform level vs the fastest adaptive render at least as accurate</h3>")
         para("For each uniform level, the adaptive render (tolerance sweep) with the smallest total "
@@ -543,6 +609,19 @@ def main():
             h.append("<pre>%s</pre>" % html.escape(legend_text))
             images([(lv_png, "leaf level per pixel, tolerance 1")])
 
+        er_png = os.path.join(out, view, "error_t1.png")
+        er_txt = os.path.join(out, view, "error_t1.txt")
+        if os.path.exists(er_png) and os.path.exists(er_txt):
+            md.extend(["### Certified error bound at tolerance 1", ""])
+            h.append("<h3>Certified error bound at tolerance 1</h3>")
+            para("False colours by each camera ray's hit's certified bound on its distance to "
+                 "the subdivision surface, in pixels (error rule, tolerance 1; subdivtrace render "
+                 "--color-by error); legend:")
+            legend_text = open(er_txt).read()
+            md.extend(["```", legend_text.rstrip("\n"), "```", ""])
+            h.append("<pre>%s</pre>" % html.escape(legend_text))
+            images([(er_png, "certified error bound per pixel, error rule, tolerance 1")])
+
         # Side by side: reference, adaptive tol 1, closest uniform; diff maps.
         a1 = [a for a in adaptive if a.param == 1.0] or adaptive[len(adaptive) // 2:][:1]
         if a1:
@@ -550,8 +629,12 @@ def main():
             u1 = closest(uniform, a1)
             md.extend(["### Images", ""])
             h.append("<h3>Images</h3>")
-            items = [(ref.png, "reference"), (a1.png, "adaptive %s (RMSE %s, %s s, %s MB)"
+            items = [(ref.png, "reference"), (a1.png, "error rule %s (RMSE %s, %s s, %s MB)"
                                               % (a1.label, fmt(a1.rmse), fmt(a1.total_seconds), fmt(a1.peak_rss_mb)))]
+            s1 = [r for r in size if r.param == a1.param]
+            if s1:
+                items.append((s1[0].png, "%s (RMSE %s, %s s, %s MB)" % (
+                    s1[0].label, fmt(s1[0].rmse), fmt(s1[0].total_seconds), fmt(s1[0].peak_rss_mb))))
             if u1:
                 items.append((u1.png, "uniform %s (RMSE %s, %s s, %s MB)"
                               % (u1.label, fmt(u1.rmse), fmt(u1.total_seconds), fmt(u1.peak_rss_mb))))
@@ -560,7 +643,9 @@ def main():
                 items.append((e1[0].png, "%s (Catmull-Clark, %s s, %s MB)"
                               % (e1[0].label, fmt(e1[0].total_seconds), fmt(e1[0].peak_rss_mb))))
             images(items)
-            items = [(a1.diff_png, "|adaptive %s - reference|, max %s" % (a1.label, fmt(a1.maxdiff)))]
+            items = [(a1.diff_png, "|error rule %s - reference|, max %s" % (a1.label, fmt(a1.maxdiff)))]
+            if s1:
+                items.append((s1[0].diff_png, "|%s - reference|, max %s" % (s1[0].label, fmt(s1[0].maxdiff))))
             if u1:
                 items.append((u1.diff_png, "|uniform %s - reference|, max %s" % (u1.label, fmt(u1.maxdiff))))
             images(items)
@@ -575,18 +660,30 @@ def main():
     if summary:
         md.extend(["## Summary", ""])
         h.append("<h2>Summary</h2>")
-        para("Adaptive at tolerance 1 against the uniform level of closest error, and each uniform "
-             "level of the close-up and far view against the fastest adaptive render at least as "
-             "accurate. Ratios adaptive / uniform.")
+        if rule_summary:
+            para("Error rule against the paper's size rule, both at tolerance 1. Ratios error "
+                 "rule / size rule.")
+            table(["view", "nodes error", "nodes size", "nodes ratio", "total s error",
+                   "total s size", "time ratio", "RMSE error", "RMSE size",
+                   "bound max px error", "bound max px size"],
+                  [[v, fmt(e.work), fmt(z.work), fmt(ratio(e.work, z.work)), fmt(e.total_seconds),
+                    fmt(z.total_seconds), fmt(ratio(e.total_seconds, z.total_seconds)), fmt(e.rmse),
+                    fmt(z.rmse), fmt(e.stat("error_bound_px_max")), fmt(z.stat("error_bound_px_max"))]
+                   for v, e, z in rule_summary])
+        para("Adaptive (error rule) at tolerance 1 against the uniform level of closest error, and "
+             "each uniform level from 3 (the fine view: from its second-finest level) against the "
+             "fastest adaptive render at least as accurate. Ratios adaptive / uniform.")
         rows = []
         for view, (mrows, erows) in summary.items():
+            finest = max([m["u"].param for m in erows] or [0])
+            from_level = min(3, max(finest - 1, 0))
             for m in mrows:
                 if m["a"].param == 1.0:
                     rows.append([view, "closest error", m["a"].label, m["u"].label, fmt(m["a"].rmse),
                                  fmt(m["u"].rmse), fmt(m["total"]), fmt(m["trace"]), fmt(m["rays_s"]),
                                  fmt(m["mem"]), fmt(m["nodes"])])
             for m in erows:
-                if m["a"] is not None and m["u"].param >= 3:
+                if m["a"] is not None and m["u"].param >= from_level:
                     rows.append([view, "adaptive <= error", m["a"].label, m["u"].label, fmt(m["a"].rmse),
                                  fmt(m["u"].rmse), fmt(m["total"]), fmt(m["trace"]), fmt(m["rays_s"]),
                                  fmt(m["mem"]), fmt(m["nodes"])])
