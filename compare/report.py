@@ -245,9 +245,10 @@ def match_rows(adaptive, uniform):
     return rows
 
 
-def embree_tables(view, adaptive, uniform, e_uniform, e_subdiv, para, table):
+def embree_tables(view, adaptive, uniform, e_uniform, e_subdiv, para, table, size=()):
     """Embree beside ours: the same uniform mesh in both BVHs, and Embree's own
-    subdivision against the adaptive tracer at equal edge length."""
+    subdivision against the adaptive tracer at equal tolerance (the size
+    rule's runs, where there are, at equal edge length)."""
     if e_uniform:
         para("Same uniform mesh (our subdivision, same level), our BVH vs Embree's: ratios "
              "ours / Embree. Both start the clock before the mesh is read, so build includes "
@@ -267,14 +268,16 @@ def embree_tables(view, adaptive, uniform, e_uniform, e_subdiv, para, table):
         table(["level", "RMSE ours", "RMSE Embree", "total s ours", "total s Embree",
                "total ratio", "trace ratio", "MB above baseline ours", "MB above baseline Embree"], rows)
     if e_subdiv:
-        para("At equal edge length: the adaptive tracer at tolerance T (an edge is refined while "
-             "longer than T pixels) against Embree's Catmull-Clark subdivision with every base "
-             "edge cut into segments of at most T pixels (edge levels from the distance to the "
-             "camera, the whole mesh tessellated, no view culling). The surfaces differ (Embree's "
-             "is Catmull-Clark's limit surface, ours the normal scheme's), so this compares cost "
-             "at equal edge length, not at equal error. Ratios adaptive / Embree; 'uniform level "
-             "as fine' is the lowest uniform level whose edges are as short (the adaptive "
-             "render's deepest level), for scale.")
+        para("At equal tolerance: the adaptive tracer (error rule) at tolerance T against "
+             "Embree's Catmull-Clark subdivision with every base edge cut into segments of at "
+             "most T pixels (edge levels from the distance to the camera, the whole mesh "
+             "tessellated, no view culling); the last columns give the size rule at T, which "
+             "refines while an edge is longer than T pixels, so it is the comparison at equal "
+             "edge length ('-' where the sweep has no size-rule render at T). The surfaces differ "
+             "(Embree's is Catmull-Clark's limit surface, ours the normal scheme's), so this "
+             "compares cost, not error. Ratios ours / Embree; 'uniform level as fine' is the "
+             "lowest uniform level whose edges are as short (the error-rule render's deepest "
+             "level), for scale.")
         rows, classes = [], []
         for e in e_subdiv:
             a = [a for a in adaptive if a.param == e.param]
@@ -287,18 +290,25 @@ def embree_tables(view, adaptive, uniform, e_uniform, e_subdiv, para, table):
             ul = [u for u in uniform if u.param == deepest]
             t_ratio = ratio(a.total_seconds, e.total_seconds)
             m_ratio = ratio(ua, ea)
+            z = [z for z in size if z.param == e.param]
+            z = z[0] if z else None
+            z_ratio = ratio(z.total_seconds, e.total_seconds) if z else float("nan")
             rows.append(["%g px" % e.param, fmt(a.total_seconds), fmt(e.total_seconds), fmt(t_ratio),
                          fmt(ratio(a.trace_seconds, e.trace_seconds)),
                          fmt(ua), fmt(ea), fmt(m_ratio),
                          "%s, mean %s max %s" % (fmt(e.s.get("embree_peak_bytes", 0) / 1048576.0),
                                                  fmt(e.s.get("mean_edge_level")),
                                                  fmt(e.s.get("max_edge_level"))),
-                         ("level %s: %s s" % (deepest, fmt(ul[0].total_seconds))) if ul else "-"])
+                         ("level %s: %s s" % (deepest, fmt(ul[0].total_seconds))) if ul else "-",
+                         fmt(z.total_seconds) if z else "-", fmt(z_ratio),
+                         fmt(ratio(z.s.get("peak_rss_above_baseline_mb") or 0.0, ea)) if z else "-"])
             classes.append(["", "", "", "good" if t_ratio <= 1 else "bad", "", "", "",
-                            "good" if m_ratio <= 1 else "bad", "", ""])
+                            "good" if m_ratio <= 1 else "bad", "", "", "",
+                            "" if math.isnan(z_ratio) else "good" if z_ratio <= 1 else "bad", ""])
         table(["segment / tolerance", "adaptive total s", "Embree total s", "total ratio",
                "trace ratio", "adaptive MB above baseline", "Embree MB above baseline",
-               "memory ratio", "Embree MB (its allocator), edge levels", "uniform level as fine"],
+               "memory ratio", "Embree MB (its allocator), edge levels", "uniform level as fine",
+               "size rule total s", "size rule total ratio", "size rule memory ratio"],
               rows, classes)
 
 
@@ -537,7 +547,7 @@ def main():
                  "normal scheme's); 'own' is against Embree's own finest render (%s)."
                  % e_subdiv[-1].label)
         if e_uniform or e_subdiv:
-            embree_tables(view, adaptive, uniform, e_uniform, e_subdiv, para, table)
+            embree_tables(view, adaptive, uniform, e_uniform, e_subdiv, para, table, size)
 
         md.extend(["### Adaptive vs uniform at matching image error", ""])
         h.append("<h3>Adaptive vs uniform at matching image error</h3>")
