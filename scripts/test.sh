@@ -40,7 +40,7 @@ cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSUBDIVTRACE_SANITIZ
 cmake --build build-tsan -j "$jobs" --target subdivtrace_tests
 TSAN_OPTIONS=halt_on_error=1 build-tsan/tests/subdivtrace_tests "[threads]"
 
-step "compare/: the quick sweep (adaptive, uniform, Embree; both views; report in build/compare)"
+step "compare/: the quick sweep (both rules, uniform, Embree; far, close and fine views; report in build/compare)"
 bash compare/run.sh build --quick --no-povray
 
 step "fuzzing: every mesh reader and the tracer, 100 s of runs in all (tests/fuzz/run.sh)"
