@@ -320,6 +320,7 @@ struct Walk {
         } else {
             h.uv = w;
         }
+        h.base_barycentric = w;
         h.triangle = {drawn[0].position, drawn[1].position, drawn[2].position};
         h.level = id.level;
         h.base_face = id.face;

@@ -131,6 +131,13 @@ struct Hit {
     /// The leaf is at max_level and the refinement rule would have refined it
     /// further: raise max_level if its surface_error_px is too large.
     bool capped_by_max_level = false;
+
+    // --- Where the hit lies on its base triangle (issue 16) ---
+    /// Barycentric weights of base_face's corners 1 and 2 at the hit (corner
+    /// 0's is 1 - x - y): what `uv` interpolates the mesh's corner uvs with,
+    /// so a caller can weigh per-corner data of its own (mesh2's three
+    /// textures per face) without handing it to the library.
+    Vec2 base_barycentric{0.0};
 };
 
 /// Work counters; the surface keeps running totals, a caller may keep its own.
