@@ -21,9 +21,14 @@
 *             [uv_indices {...}] [inside_vector <x,y,z>] }
 *     | file "mesh.obj" | MESH_IDENTIFIER
 *     [scheme normal | loop | butterfly]
-*     [tolerance PIXELS] [max_level LEVEL] [cache_mb MEGABYTES]
+*     [tolerance PIXELS] [max_level LEVEL] [weld EPS | no_weld]
 *     [OBJECT_MODIFIERS...]
 *  }
+*
+*  global_settings { subdivision_cache_mb MEGABYTES }
+*
+*  Every subdivision_mesh of a scene shares one tile cache with one budget
+*  (subdivision_cache_mb); an object's own cache_mb is ignored with a warning.
 *
 *  Every ray descends the subdivision hierarchy of the mesh only as deep as
 *  its footprint needs (libsubdivtrace, DESIGN.md section 5): the surface
@@ -36,6 +41,7 @@
 #include "subdivtrace/mesh_report.h"
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
+#include "subdivtrace/tile_cache.h"
 #include "subdivtrace/tracer.h"
 #if __has_include("subdivtrace/mesh_io.h")
 #include "subdivtrace/mesh_io.h"
@@ -133,7 +139,6 @@ SubdivisionMeshInput::SubdivisionMeshInput()
 	Scheme = subdivtrace::scheme_name(defaults.scheme);
 	Tolerance = defaults.tolerance;
 	MaxLevel = defaults.max_level;
-	CacheMB = int(defaults.cache_mb);
 	subdivtrace::WeldOptions weld;
 	Weld = weld.enabled;
 	WeldTolerance = weld.relative_tolerance;
@@ -268,6 +273,16 @@ int SubdivisionMesh::Max_Level_Cap()
 	return subdivtrace::k_max_level_cap;
 }
 
+std::shared_ptr<subdivtrace::TileCache> SubdivisionMesh::New_Scene_Cache()
+{
+	return std::make_shared<subdivtrace::TileCache>();
+}
+
+void SubdivisionMesh::Set_Cache_Budget(const std::shared_ptr<subdivtrace::TileCache>& cache, DBL mb)
+{
+	cache->set_budget(size_t(mb * 1048576.0));
+}
+
 
 
 /*****************************************************************************
@@ -380,7 +395,7 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 			warnings.push_back(normals_note);
 		options.tolerance = input.Tolerance;
 		options.max_level = input.MaxLevel;
-		options.cache_mb = size_t(input.CacheMB);
+		options.cache = input.Cache;
 
 		surface = std::make_shared<subdivtrace::AdaptiveSurface>(std::move(mesh), options);
 	}
@@ -442,7 +457,8 @@ namespace
 {
 
 void collect_totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Totals,
-                    std::set<const subdivtrace::AdaptiveSurface *>& seen)
+                    std::set<const subdivtrace::AdaptiveSurface *>& seen,
+                    std::set<const subdivtrace::TileCache *>& caches)
 {
 	for (vector<ObjectPtr>::const_iterator i = Objects.begin(); i != Objects.end(); i++)
 	{
@@ -457,13 +473,20 @@ void collect_totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Tot
 			Totals.NodesBuilt += s.nodes_built;
 			Totals.CacheHits += s.trace.cache_hits;
 			Totals.CacheMisses += s.trace.cache_misses;
-			Totals.CacheEvictions += s.cache_evictions;
-			Totals.CachePeakBytes += s.cache_peak_bytes;
+			// The scene's cache once, whichever surfaces share it.
+			const subdivtrace::TileCache *cache = Subdiv->Surface()->options().cache.get();
+			if (cache != NULL && caches.insert(cache).second)
+			{
+				const subdivtrace::TileCacheStats c = cache->stats();
+				Totals.CacheEvictions += c.evictions;
+				Totals.CachePeakBytes += c.peak_bytes;
+				Totals.CacheBudgetBytes += c.budget_bytes;
+			}
 		}
 		if (CompoundObject *Compound = dynamic_cast<CompoundObject *>(Object))
-			collect_totals(Compound->children, Totals, seen);
-		collect_totals(Object->Clip, Totals, seen);
-		collect_totals(Object->Bound, Totals, seen);
+			collect_totals(Compound->children, Totals, seen, caches);
+		collect_totals(Object->Clip, Totals, seen, caches);
+		collect_totals(Object->Bound, Totals, seen, caches);
 	}
 }
 
@@ -472,7 +495,8 @@ void collect_totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Tot
 void SubdivisionMesh::Collect_Totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Totals)
 {
 	std::set<const subdivtrace::AdaptiveSurface *> seen;
-	collect_totals(Objects, Totals, seen);
+	std::set<const subdivtrace::TileCache *> caches;
+	collect_totals(Objects, Totals, seen, caches);
 }
 
 
