@@ -74,15 +74,18 @@ namespace pov
 * Local typedefs
 ******************************************************************************/
 
-/// What mesh2 keeps per triangle and the library does not: texture indices
-/// and uvs. Indexed by the library's base face (faces the library drops are
-/// not here either); shared by every copy of the object.
+/// What mesh2 keeps per triangle and the library does not: texture indices.
+/// Indexed by the library's base face (faces the library drops are not here
+/// either); shared by every copy of the object.
 struct SubdivisionMeshFaces
 {
 	/// Three texture indices per face: one (then -1, -1), three, or none (-1).
 	std::vector<long> Textures;
-	/// Three uvs per face; empty without uv_vectors (mesh2's uv is then 0, 0).
-	std::vector<subdivtrace::Vec2> CornerUVs;
+	/// The mesh has uvs (the library interpolates them); without, mesh2's uv
+	/// is 0, 0.
+	bool HasUVs;
+
+	SubdivisionMeshFaces() : HasUVs(false) { }
 };
 
 
@@ -299,33 +302,6 @@ void SubdivisionMesh::Set_Cache_Budget(const std::shared_ptr<subdivtrace::TileCa
 *
 ******************************************************************************/
 
-namespace
-{
-
-// Input face of each triangle the library keeps, in order: it drops faces that
-// repeat a vertex or that welding collapses. Told the face numbers as uvs, it
-// hands them back per kept triangle.
-std::vector<size_t> kept_faces(const subdivtrace::MeshArrays& arrays, const subdivtrace::WeldOptions& weld)
-{
-	subdivtrace::MeshArrays numbered;
-	numbered.positions = arrays.positions;
-	numbered.face_indices = arrays.face_indices;
-	for (size_t f = 0; f < arrays.face_indices.size(); f++)
-	{
-		const std::int64_t i = std::int64_t(f);
-		numbered.uvs.push_back(subdivtrace::Vec2(double(f), 0.0));
-		numbered.uv_indices.push_back({{i, i, i}});
-	}
-	subdivtrace::Mesh mesh = subdivtrace::mesh_from_arrays(numbered, "mesh2", NULL, weld);
-
-	std::vector<size_t> kept(mesh.triangles.size());
-	for (size_t t = 0; t < kept.size(); t++)
-		kept[t] = size_t(mesh.corner_uvs[3 * t].x);
-	return kept;
-}
-
-}
-
 std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vector<std::string>& warnings)
 {
 	std::shared_ptr<SubdivisionMeshFaces> data = std::make_shared<SubdivisionMeshFaces>();
@@ -360,30 +336,22 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 				arrays.normal_indices.push_back({{input.NormalIndices[i], input.NormalIndices[i + 1], input.NormalIndices[i + 2]}});
 			for (size_t i = 0; i + 2 < input.UVIndices.size(); i += 3)
 				arrays.uv_indices.push_back({{input.UVIndices[i], input.UVIndices[i + 1], input.UVIndices[i + 2]}});
-			mesh = subdivtrace::mesh_from_arrays(arrays, "mesh2", &warnings, weld);
+			subdivtrace::WeldReport report;
+			mesh = subdivtrace::mesh_from_arrays(arrays, "mesh2", &warnings, weld, &report);
 
-			// Texture indices follow the faces the library kept.
+			// Texture indices follow the faces the library kept (it drops
+			// faces that repeat a vertex or that welding collapses).
 			if (!input.FaceTextures.empty())
 			{
-				std::vector<size_t> kept = kept_faces(arrays, weld);
-				if (kept.size() != mesh.triangles.size())
-					return "texture indices do not match the faces kept";
-				for (size_t t = 0; t < kept.size(); t++)
-					data->Textures.insert(data->Textures.end(), &input.FaceTextures[3 * kept[t]], &input.FaceTextures[3 * kept[t] + 3]);
+				data->Textures.reserve(3 * report.kept_faces.size());
+				for (size_t t = 0; t < report.kept_faces.size(); t++)
+				{
+					const size_t f = report.kept_faces[t];
+					data->Textures.insert(data->Textures.end(), &input.FaceTextures[3 * f], &input.FaceTextures[3 * f + 3]);
+				}
 			}
 		}
-
-		// The library interpolates uvs over each base triangle's domain. It is
-		// given the corners (0,0), (1,0), (0,1), so a hit's uv is its
-		// barycentric pair (b2, b3) on the base triangle: what mesh2 weighs
-		// textures with; the real uvs are interpolated here the same way.
-		data->CornerUVs = std::move(mesh.corner_uvs);
-		mesh.corner_uvs.assign(3 * mesh.triangles.size(), subdivtrace::Vec2(0.0));
-		for (size_t t = 0; t < mesh.triangles.size(); t++)
-		{
-			mesh.corner_uvs[3 * t + 1] = subdivtrace::Vec2(1.0, 0.0);
-			mesh.corner_uvs[3 * t + 2] = subdivtrace::Vec2(0.0, 1.0);
-		}
+		data->HasUVs = mesh.has_uvs();
 
 		subdivtrace::SurfaceOptions options;
 		std::optional<subdivtrace::SchemeKind> kind = subdivtrace::parse_scheme(input.Scheme);
@@ -707,15 +675,10 @@ bool SubdivisionMesh::All_Intersections(const Ray& ray, IStack& Depth_Stack, Tra
 		MTransNormal(INormal, LocalNormal, Trans);
 		VNormalizeEq(INormal);
 
-		// hit.uv is the barycentric pair on the base triangle (see Build).
-		const DBL b2 = hit.uv.x, b3 = hit.uv.y, b1 = 1.0 - b2 - b3;
-		UV[U] = UV[V] = 0.0;
-		if (!faces->CornerUVs.empty())
-		{
-			const subdivtrace::Vec2 *uv = &faces->CornerUVs[3 * size_t(hit.base_face)];
-			UV[U] = b1 * uv[0].x + b2 * uv[1].x + b3 * uv[2].x;
-			UV[V] = b1 * uv[0].y + b2 * uv[1].y + b3 * uv[2].y;
-		}
+		// The library interpolates the mesh's uvs; mesh2 without uvs has 0, 0.
+		UV[U] = faces->HasUVs ? hit.uv.x : 0.0;
+		UV[V] = faces->HasUVs ? hit.uv.y : 0.0;
+		const DBL b2 = hit.base_barycentric.x, b3 = hit.base_barycentric.y, b1 = 1.0 - b2 - b3;
 
 		Intersection isect(hit.t, IPoint, INormal, UV, this);
 		// Object-specific data for Determine_Textures: the base face and the

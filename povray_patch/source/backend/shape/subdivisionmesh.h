@@ -170,7 +170,7 @@ class SubdivisionMesh : public ObjectBase
 	private:
 		/// Shared by all copies of the object; its tile cache is the scene's.
 		std::shared_ptr<subdivtrace::AdaptiveSurface> surface;
-		/// Per-face texture indices and corner uvs, shared by all copies.
+		/// Per-face texture indices, shared by all copies.
 		std::shared_ptr<const SubdivisionMeshFaces> faces;
 		/// texture_list, one reference per copy (as Mesh keeps them).
 		std::vector<TEXTURE *> Textures;
