@@ -16,6 +16,7 @@
 #include <future>
 #include <list>
 #include <mutex>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -81,7 +82,8 @@ public:
     Value lookup_or_build(const Key& key, CacheOwnerTally& owner, Build&& build) {
         Shard& s = shard_for(key);
         std::shared_future<Value> other_build;
-        std::promise<Value> promise;
+        // Made on a miss only: a promise allocates its shared state.
+        std::optional<std::promise<Value>> promise;
         {
             std::lock_guard<std::mutex> lock(s.mutex);
             auto it = s.map.find(key);
@@ -99,7 +101,8 @@ public:
             } else {
                 ++s.misses;
                 owner.misses.fetch_add(1, std::memory_order_relaxed);
-                s.pending.emplace(key, promise.get_future().share());
+                promise.emplace();
+                s.pending.emplace(key, promise->get_future().share());
             }
         }
         if (other_build.valid()) return other_build.get();
@@ -112,10 +115,10 @@ public:
                 std::lock_guard<std::mutex> lock(s.mutex);
                 s.pending.erase(key);
             }
-            promise.set_exception(std::current_exception());
+            promise->set_exception(std::current_exception());
             throw;
         }
-        promise.set_value(built.first);
+        promise->set_value(built.first);
         std::lock_guard<std::mutex> lock(s.mutex);
         s.pending.erase(key);
         insert_locked(s, key, built.first, built.second, owner);
