@@ -348,6 +348,8 @@ BAD_CASES = {
     "negative_max_level": (["  max_level -1"], 1, "max_level must be an integer"),
     "max_level_over_cap": (["  max_level {cap_plus_one}"], 1, "max_level must be an integer from 0 to {cap}"),
     "unknown_scheme": (["  scheme catmull"], 1, "Unknown subdivision scheme"),
+    "unknown_refine": (["  refine fast"], 1, "Unknown subdivision_mesh refine rule 'fast': expected error or size"),
+    "repeated_refine": (["  refine size", "  tolerance 2", "  refine error"], 3, "refine is given more than once"),
     "cache_mb_zero": (["  cache_mb 0"], 1, "cache_mb must be from 1 to 1048576 (it is 0)"),
     "cache_mb_huge": (["  cache_mb 1e30"], 1, "cache_mb must be from 1 to 1048576 (it is 1e+30)"),
     "empty_file_name": ([NO_MESH, '  file ""'], 1, "subdivision_mesh file name is empty"),
@@ -955,13 +957,14 @@ def faceted_cube_body():
 
 def test_faceted_cube_equals_mesh2(ctx):
     """A cube written with one normal per face stays a cube at every level:
-    refined to level 4 (every scheme: their crease rules keep it flat), the
+    refined to level 4 (every scheme: their crease rules keep it flat; the
+    size rule, since the error rule rightly leaves flat faces whole), the
     same picture as the mesh2 cube, silhouette and shading."""
     mods = "texture { pigment { rgb <0.9, 0.6, 0.3> } finish { specular 0.3 } } rotate <25, 35, 0>"
     native = SCENE_HEADER + "mesh2 { %s %s }\n" % (faceted_cube_body(), mods)
     _, _, a, _ = ctx.render("native_cube", native)
     for scheme in ("normal", "loop", "butterfly"):
-        subdiv = SCENE_HEADER + ("subdivision_mesh { mesh2 { %s } scheme %s max_level 4 tolerance 0.25 %s }\n"
+        subdiv = SCENE_HEADER + ("subdivision_mesh { mesh2 { %s } scheme %s refine size max_level 4 tolerance 0.25 %s }\n"
                                  % (faceted_cube_body(), scheme, mods))
         rc, err, b, _ = ctx.render("subdiv_cube_" + scheme, subdiv)
         level = deepest_level(err)
@@ -969,6 +972,43 @@ def test_faceted_cube_equals_mesh2(ctx):
         if level is None or level < 2:
             raise Failure("%s: the cube was not refined (deepest level %s)" % (scheme, level))
         assert_close("faceted cube, %s level 4 vs mesh2" % scheme, a, b, SAME_FRACTION, SAME_MEAN)
+
+
+def test_refine_rules(ctx):
+    """refine error (the default) and refine size both render the icosahedron
+    like each other and like the finest size-rule render; the error rule
+    builds fewer nodes, and the render summary names the rule and prints the
+    certified error bound (in pixels, not above the largest bound any hit
+    may have: the base mesh's own deviation is far larger than a pixel)."""
+    verts, faces, normals, uvs = icosahedron()
+    body = mesh2_body(verts, faces, None, uvs)
+    def scene(setting):
+        return SCENE_HEADER + "subdivision_mesh { mesh2 { %s } %s max_level 8 %s scale 1.4 }\n" % (
+            body, setting, ico_texture())
+    results = {}
+    for name, setting in (("default", ""), ("error", "refine error"), ("size", "refine size"),
+                          ("finest", "refine size tolerance 0.25")):
+        rc, err, image, _ = ctx.render("refine_" + name, scene(setting))
+        built = re.search(r"Subdivision nodes built:\s+(\d+)\s+refine rule:\s+(\w+)", err)
+        bound = re.search(r"Subdivision error bound:\s+([\d.]+) px max, ([\d.]+) px mean over (\d+) hits, (\d+) at max_level", err)
+        if not built or not bound:
+            raise Failure("%s: the render summary lacks the nodes built, rule or error bound" % name)
+        results[name] = (int(built.group(1)), built.group(2), float(bound.group(1)), float(bound.group(2)),
+                         int(bound.group(3)), image)
+        print("  %s: %s nodes, rule %s, bound max %s px, mean %s px over %s hits, %s at max_level"
+              % (name, built.group(1), built.group(2), bound.group(1), bound.group(2), bound.group(3), bound.group(4)))
+    if results["default"][1] != "error" or results["error"][1] != "error" or results["size"][1] != "size":
+        raise Failure("the summary names the wrong rule")
+    if results["default"][0] != results["error"][0]:
+        raise Failure("refine error is not the default")
+    if not results["error"][0] < results["size"][0]:
+        raise Failure("the error rule built %d nodes, the size rule %d" % (results["error"][0], results["size"][0]))
+    for name in ("error", "size"):
+        built, rule, bmax, bmean, hits, image = results[name]
+        if hits <= 0 or not (0.0 < bmean <= bmax):
+            raise Failure("%s: implausible bound (max %g, mean %g, %d hits)" % (name, bmax, bmean, hits))
+        assert_close("refine %s vs the finest size-rule render" % name, results["finest"][5], image,
+                     SAME_FRACTION, SAME_MEAN)
 
 
 def test_csg_faceted_cube(ctx):
@@ -984,7 +1024,7 @@ def test_csg_faceted_cube(ctx):
             op, faceted_cube_body(), other, mat, xform)
         _, _, a, _ = ctx.render("native_cube_" + op, native)
         for scheme in ("normal", "loop"):
-            subdiv = SCENE_HEADER + ("%s { subdivision_mesh { mesh2 { %s } scheme %s max_level 4 tolerance 0.25 } "
+            subdiv = SCENE_HEADER + ("%s { subdivision_mesh { mesh2 { %s } scheme %s refine size max_level 4 tolerance 0.25 } "
                                      "%s %s %s }\n" % (op, faceted_cube_body(), scheme, other, mat, xform))
             _, err, b, _ = ctx.render("subdiv_cube_%s_%s" % (op, scheme), subdiv)
             print("  %s %s: deepest level %s" % (op, scheme, deepest_level(err)))

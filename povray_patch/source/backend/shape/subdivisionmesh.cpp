@@ -20,7 +20,7 @@
 *             [texture_list {...}] face_indices {...} [normal_indices {...}]
 *             [uv_indices {...}] [inside_vector <x,y,z>] }
 *     | file "mesh.obj" | MESH_IDENTIFIER
-*     [scheme normal | loop | butterfly]
+*     [scheme normal | loop | butterfly] [refine error | size]
 *     [tolerance PIXELS] [max_level LEVEL] [weld EPS | no_weld]
 *     [OBJECT_MODIFIERS...]
 *  }
@@ -140,6 +140,7 @@ SubdivisionMeshInput::SubdivisionMeshInput()
 	Make_Vector(InsideVector, 0.0, 0.0, 0.0);
 	subdivtrace::SurfaceOptions defaults;
 	Scheme = subdivtrace::scheme_name(defaults.scheme);
+	Refine = subdivtrace::refine_rule_name(defaults.refine);
 	Tolerance = defaults.tolerance;
 	MaxLevel = defaults.max_level;
 	subdivtrace::WeldOptions weld;
@@ -361,6 +362,8 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 		const std::string normals_note = subdivtrace::given_normals_warning(mesh, *kind, input.File.empty() ? "mesh2" : input.File);
 		if (!normals_note.empty())
 			warnings.push_back(normals_note);
+		if (!subdivtrace::parse_refine_rule(input.Refine, options.refine))
+			return "unknown refine rule '" + input.Refine + "'";
 		options.tolerance = input.Tolerance;
 		options.max_level = input.MaxLevel;
 		options.cache = input.Cache;
@@ -441,6 +444,11 @@ void collect_totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Tot
 			Totals.NodesBuilt += s.nodes_built;
 			Totals.CacheHits += s.trace.cache_hits;
 			Totals.CacheMisses += s.trace.cache_misses;
+			Totals.RefineRules |= Subdiv->Surface()->options().refine == subdivtrace::RefineRule::size ? 2 : 1;
+			Totals.Hits += s.trace.hits;
+			Totals.HitsAtMaxLevel += s.trace.hits_at_max_level;
+			Totals.BoundSumPx += s.trace.error_bound_px_sum;
+			Totals.BoundMaxPx = std::max(Totals.BoundMaxPx, s.trace.error_bound_px_max);
 			// The scene's cache once, whichever surfaces share it.
 			const subdivtrace::TileCache *cache = Subdiv->Surface()->options().cache.get();
 			if (cache != NULL && caches.insert(cache).second)

@@ -62,10 +62,18 @@ struct SubdivisionMeshTotals
 	POV_ULONG CacheEvictions;
 	POV_ULONG CachePeakBytes;
 	POV_ULONG CacheBudgetBytes;
+	/// Rules in use: 1 error, 2 size, 3 both.
+	int RefineRules;
+	/// Hits reported, and the certified bound on their distance to the
+	/// surface in pixels (Hit::surface_error_px): sum and largest.
+	POV_ULONG Hits;
+	POV_ULONG HitsAtMaxLevel;
+	DBL BoundSumPx;
+	DBL BoundMaxPx;
 
 	SubdivisionMeshTotals() :
 		Surfaces(0), NodesBuilt(0), CacheHits(0), CacheMisses(0), CacheEvictions(0), CachePeakBytes(0),
-		CacheBudgetBytes(0) { }
+		CacheBudgetBytes(0), RefineRules(0), Hits(0), HitsAtMaxLevel(0), BoundSumPx(0.0), BoundMaxPx(0.0) { }
 };
 
 /// Everything the parser reads from a subdivision_mesh block, in plain types.
@@ -90,6 +98,8 @@ struct SubdivisionMeshInput
 
 	/// "normal", "loop" or "butterfly".
 	std::string Scheme;
+	/// "error" or "size" (libsubdivtrace's RefineRule).
+	std::string Refine;
 	DBL Tolerance;
 	int MaxLevel;
 	/// The scene's tile cache (global_settings' subdivision_cache_mb), shared
