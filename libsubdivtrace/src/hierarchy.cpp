@@ -3,10 +3,12 @@
 #include <array>
 #include <atomic>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "grid.h"
-#include "lru_cache.h"
 #include "tile.h"
+#include "tile_cache_impl.h"
 
 namespace subdivtrace {
 
@@ -14,13 +16,6 @@ namespace {
 
 std::atomic<std::uint64_t> g_next_hierarchy_id{1};
 
-struct NodeKeyHash {
-    std::size_t operator()(const NodeId& n) const {
-        const std::uint64_t h0 = (std::uint64_t{n.face} << 32) | (std::uint64_t{n.level} << 1) | n.down;
-        const std::uint64_t h1 = (std::uint64_t{n.i} << 32) | n.j;
-        return static_cast<std::size_t>(detail::mix64(h0 ^ detail::mix64(h1)));
-    }
-};
 
 // Corner k of child c, for parents of each orientation (see uniform.h for
 // the order; derived from the grid coordinates in child_of).
@@ -67,112 +62,168 @@ std::array<std::array<std::uint32_t, 2>, 3> node_corner_grid(const NodeId& n) {
     return {{{n.i + 1, n.j}, {n.i + 1, n.j + 1}, {n.i, n.j + 1}}};
 }
 
-/// A tile as the cache holds it, with the bytes it is charged (computed once,
-/// at build time, before any other thread can see it).
-struct CachedTile {
-    CachedTile(const detail::TileContext& ctx, const NodeId& root, const detail::Patch* parent)
-        : tile(ctx, root, parent), bytes(tile.bytes_when_complete()) {}
-    detail::Tile tile;
-    std::size_t bytes;
-};
+namespace detail {
 
-/// What the threads' fronts of one hierarchy hold, shared with the fronts so
-/// a front that outlives its hierarchy still has somewhere to report to.
+/// What the threads' fronts hold of one hierarchy, shared with its tiles so a
+/// front that outlives the hierarchy still has somewhere to report to.
 struct FrontTally {
-    std::atomic<std::size_t> fronts{0};
+    std::atomic<std::size_t> fronts{0};      ///< threads holding at least one of its tiles
     std::atomic<std::size_t> tile_bytes{0};  ///< tiles held, each front counting its own
 };
 
+/// A tile as the cache holds it, with the bytes it is charged (computed once,
+/// at build time, before any other thread can see it) and its hierarchy's
+/// front tally.
+struct CachedTile {
+    CachedTile(const TileContext& ctx, const NodeId& root, const Patch* parent,
+               std::shared_ptr<FrontTally> tally)
+        : tile(ctx, root, parent), bytes(tile.bytes_when_complete()), front_tally(std::move(tally)) {}
+    Tile tile;
+    std::size_t bytes;
+    std::shared_ptr<FrontTally> front_tally;
+};
+
+}  // namespace detail
+
+using detail::CachedTile;
+using detail::FrontTally;
+
+namespace {
+
+/// A few tiles per thread in front of the shared cache: a ray's neighbours
+/// descend through the same tiles, and this spares them the shared cache's
+/// lock. A tile's values never change once computed (lazy levels are added
+/// under its own lock), so a thread holding one cannot see a value the cache
+/// would not give. One front per thread serves every hierarchy (a scene's
+/// rays move between surfaces all the time); slots are keyed by the
+/// hierarchy's id, never reused, as well as the tile, so a slot can never
+/// answer for another surface, nor for a destroyed one's successor.
+struct Front {
+    static constexpr std::size_t k_slots = 64;
+    struct Slot {
+        std::uint64_t owner = 0;
+        NodeId root;
+        std::shared_ptr<const CachedTile> tile;
+    };
+    std::array<Slot, k_slots> slots;
+    /// Slots each hierarchy holds here, so a thread counts once per hierarchy.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> holders;
+
+    void add_holder(std::uint64_t owner, FrontTally& tally, std::size_t bytes) {
+        tally.tile_bytes.fetch_add(bytes, std::memory_order_relaxed);
+        for (auto& h : holders)
+            if (h.first == owner) {
+                ++h.second;
+                return;
+            }
+        holders.emplace_back(owner, 1);
+        tally.fronts.fetch_add(1, std::memory_order_relaxed);
+    }
+
+    void drop(Slot& slot) {
+        if (!slot.tile) return;
+        FrontTally& tally = *slot.tile->front_tally;
+        tally.tile_bytes.fetch_sub(slot.tile->bytes, std::memory_order_relaxed);
+        for (std::size_t k = 0; k < holders.size(); ++k) {
+            if (holders[k].first != slot.owner) continue;
+            if (--holders[k].second == 0) {
+                holders[k] = holders.back();
+                holders.pop_back();
+                tally.fronts.fetch_sub(1, std::memory_order_relaxed);
+            }
+            break;
+        }
+        slot.tile.reset();
+    }
+
+    ~Front() {
+        for (auto& slot : slots) drop(slot);
+    }
+};
+
+}  // namespace
+
 class HierarchyImpl {
 public:
-    HierarchyImpl(const Mesh& mesh, SchemeKind scheme, int max_level, std::size_t cache_bytes,
-                  ShellKind shell_kind)
+    HierarchyImpl(const Mesh& mesh, SchemeKind scheme, int max_level,
+                  std::shared_ptr<TileCache> shared_cache, ShellKind shell_kind)
         : topo(mesh),
           context{topo, scheme, shell_kind, max_level, &nodes_built},
           roots(context),
-          tiles(cache_bytes) {}
+          cache(std::move(shared_cache)),
+          tiles(cache->impl()) {
+        tiles.surfaces.fetch_add(1, std::memory_order_relaxed);
+    }
 
-    /// A few tiles per thread in front of the shared cache: a ray's
-    /// neighbours descend through the same tiles, and this spares them the
-    /// shared cache's lock. A tile's values never change once computed (lazy
-    /// levels are added under its own lock), so a thread holding one cannot
-    /// see a value the cache would not give. A front serves one hierarchy at
-    /// a time; it drops its tiles when its thread moves to another or exits.
-    struct Front {
-        static constexpr std::size_t k_slots = 64;
-        struct Slot {
-            NodeId root;
-            std::shared_ptr<const CachedTile> tile;
-        };
-        std::uint64_t owner = 0;
-        std::shared_ptr<FrontTally> tally;
-        std::array<Slot, k_slots> slots;
-
-        void release() {
-            if (!tally) return;
-            std::size_t held = 0;
-            for (auto& slot : slots) {
-                if (slot.tile) held += slot.tile->bytes;
-                slot.tile.reset();
-            }
-            tally->tile_bytes.fetch_sub(held, std::memory_order_relaxed);
-            tally->fronts.fetch_sub(1, std::memory_order_relaxed);
-            tally.reset();
-        }
-        ~Front() { release(); }
-    };
+    ~HierarchyImpl() {
+        // The tiles of a surface nobody can ask for again leave the shared
+        // cache now rather than when they age out.
+        tiles.erase_owner(share);
+        tiles.surfaces.fetch_sub(1, std::memory_order_relaxed);
+    }
 
     /// The tile rooted at `root`, from this thread's front: valid until this
     /// thread's next call.
     const detail::Tile* front_tile(const NodeId& root) {
         thread_local Front front;
-        if (front.owner != id) {
-            front.release();
-            front.owner = id;
-            front.tally = front_tally;
-            front_tally->fronts.fetch_add(1, std::memory_order_relaxed);
-        }
-        auto& slot = front.slots[NodeKeyHash{}(root) % Front::k_slots];
-        if (slot.tile && slot.root == root) return &slot.tile->tile;
+        const std::size_t h = detail::TileKeyHash{}(detail::TileKey{id, root});
+        Front::Slot& slot = front.slots[h % Front::k_slots];
+        if (slot.tile && slot.owner == id && slot.root == root) return &slot.tile->tile;
         std::shared_ptr<const CachedTile> t = tile(root);
-        front_tally->tile_bytes.fetch_add(t->bytes, std::memory_order_relaxed);
-        if (slot.tile) front_tally->tile_bytes.fetch_sub(slot.tile->bytes, std::memory_order_relaxed);
+        front.drop(slot);
+        front.add_holder(id, *front_tally, t->bytes);
+        slot.owner = id;
         slot.root = root;
         slot.tile = std::move(t);
         return &slot.tile->tile;
     }
 
+    /// The tile from the shared cache, built by this thread if no other has
+    /// it or is building it.
     std::shared_ptr<const CachedTile> tile(const NodeId& root) {
-        std::shared_ptr<const CachedTile> t;
-        if (!tiles.lookup(root, t)) t = build(root);
-        return t;
+        return tiles.lookup_or_build(detail::TileKey{id, root}, share, [&] {
+            // A child tile starts from its parent tile's last patch (rebuilt
+            // in turn if it was evicted: values never depend on the cache).
+            std::shared_ptr<const CachedTile> parent;
+            if (root.level > 0) parent = tile(detail::parent_tile_root(root));
+            auto built = std::make_shared<const CachedTile>(
+                context, root, parent ? &parent->tile.last_patch() : nullptr, front_tally);
+            return std::make_pair(std::shared_ptr<const CachedTile>(built), built->bytes);
+        });
     }
 
-    std::shared_ptr<const CachedTile> build(const NodeId& root) {
-        // A child tile starts from its parent tile's last patch (rebuilt in
-        // turn if it was evicted: values never depend on the cache).
-        std::shared_ptr<const CachedTile> parent;
-        if (root.level > 0) parent = tile(detail::parent_tile_root(root));
-        auto built = std::make_shared<const CachedTile>(
-            context, root, parent ? &parent->tile.last_patch() : nullptr);
-        tiles.insert(root, built, built->bytes);
-        return built;
-    }
-
-    /// Never reused, so a thread's front cannot confuse two hierarchies.
+    /// Never reused, so keys and fronts cannot confuse two hierarchies.
     const std::uint64_t id = g_next_hierarchy_id.fetch_add(1);
 
     std::atomic<std::uint64_t> nodes_built{0};
     detail::BaseTopology topo;
     detail::TileContext context;
     detail::RootRecords roots;
-    detail::ShardedLruCache<NodeId, std::shared_ptr<const CachedTile>, NodeKeyHash> tiles;
+    std::shared_ptr<TileCache> cache;
+    detail::TileCacheImpl& tiles;
+    /// This hierarchy's share of the cache (its entries point here).
+    detail::CacheOwnerTally share;
     std::shared_ptr<FrontTally> front_tally = std::make_shared<FrontTally>();
 };
 
+namespace {
+
+std::shared_ptr<TileCache> cache_or_own(std::shared_ptr<TileCache> cache, std::size_t cache_bytes) {
+    return cache ? std::move(cache) : std::make_shared<TileCache>(cache_bytes);
+}
+
+}  // namespace
+
 Hierarchy::Hierarchy(const Mesh& mesh, SchemeKind scheme, int max_level,
                      std::size_t cache_bytes, ShellKind shell_kind)
-    : impl_(std::make_unique<HierarchyImpl>(mesh, scheme, max_level, cache_bytes, shell_kind)) {}
+    : impl_(std::make_unique<HierarchyImpl>(mesh, scheme, max_level,
+                                            cache_or_own(nullptr, cache_bytes), shell_kind)) {}
+
+Hierarchy::Hierarchy(const Mesh& mesh, SchemeKind scheme, int max_level,
+                     std::shared_ptr<TileCache> cache, ShellKind shell_kind)
+    : impl_(std::make_unique<HierarchyImpl>(
+          mesh, scheme, max_level, cache_or_own(std::move(cache), TileCache::k_default_mb << 20),
+          shell_kind)) {}
 
 Hierarchy::~Hierarchy() = default;
 
@@ -180,6 +231,7 @@ SchemeKind Hierarchy::scheme() const { return impl_->context.scheme; }
 int Hierarchy::max_level() const { return impl_->context.max_level; }
 std::size_t Hierarchy::face_count() const { return impl_->topo.face_count(); }
 bool Hierarchy::closed() const { return impl_->topo.closed(); }
+const std::shared_ptr<TileCache>& Hierarchy::cache() const { return impl_->cache; }
 
 NodeRecord Hierarchy::node(const NodeId& id) const {
     if (id.level == 0) return impl_->roots.record(id.face);
@@ -191,18 +243,18 @@ void Hierarchy::children(const NodeId& id, std::array<NodeRecord, 4>& out) const
 }
 
 HierarchyCounters Hierarchy::counters() const {
-    const detail::CacheCounters t = impl_->tiles.counters();
+    const detail::CacheOwnerTally& t = impl_->share;
     HierarchyCounters c;
     c.nodes_built = impl_->nodes_built.load();
-    c.node_hits = t.hits;
-    c.node_misses = t.misses;
-    c.evictions = t.evictions;
-    c.bytes = t.bytes;
-    c.peak_bytes = t.peak_bytes;
+    c.node_hits = t.hits.load(std::memory_order_relaxed);
+    c.node_misses = t.misses.load(std::memory_order_relaxed);
+    c.evictions = t.evictions.load(std::memory_order_relaxed);
+    c.bytes = t.bytes.load(std::memory_order_relaxed);
+    c.peak_bytes = t.peak_bytes.load(std::memory_order_relaxed);
     c.topology_bytes = impl_->topo.owned_bytes();
     c.root_bytes = impl_->roots.owned_bytes();
     c.fronts = impl_->front_tally->fronts.load(std::memory_order_relaxed);
-    c.front_bytes = c.fronts * sizeof(HierarchyImpl::Front) +
+    c.front_bytes = c.fronts * sizeof(Front) +
                     impl_->front_tally->tile_bytes.load(std::memory_order_relaxed);
     return c;
 }

@@ -130,6 +130,10 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
         return remap.empty() ? static_cast<std::uint32_t>(i) : remap[static_cast<std::size_t>(i)];
     };
 
+    if (report) {
+        report->kept_faces.clear();
+        report->kept_faces.reserve(n_faces);
+    }
     // Copy, dropping triangles that repeat a vertex (as given, or once welded):
     // they have no area and no three edges, so no scheme can split them.
     mesh.triangles.reserve(n_faces);
@@ -148,6 +152,7 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
             continue;
         }
         mesh.triangles.push_back(t);
+        if (report) report->kept_faces.push_back(static_cast<std::uint32_t>(f));
         for (int c = 0; c < 3; ++c) {
             if (has_normals) {
                 const auto& ni = arrays.normal_indices.empty() ? v : arrays.normal_indices[f];

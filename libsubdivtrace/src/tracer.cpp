@@ -70,7 +70,7 @@ void check_options(const SurfaceOptions& o) {
     if (o.max_level < 0 || o.max_level > k_max_level_cap)
         throw std::invalid_argument("max_level must be in 0.." + std::to_string(k_max_level_cap) +
                                     ", got " + std::to_string(o.max_level));
-    if (o.cache_mb < 1) throw std::invalid_argument("cache_mb must be at least 1");
+    if (!o.cache && o.cache_mb < 1) throw std::invalid_argument("cache_mb must be at least 1");
     AdaptiveSurface::check_view(o.view);
 }
 
@@ -104,7 +104,9 @@ public:
     SurfaceImpl(Mesh m, const SurfaceOptions& o)
         : mesh(as_kept(std::move(m))),
           options(o),
-          hierarchy(mesh, o.scheme, o.max_level, o.cache_mb << 20, o.shell_kind) {
+          hierarchy(mesh, o.scheme, o.max_level,
+                    o.cache ? o.cache : std::make_shared<TileCache>(o.cache_mb << 20), o.shell_kind) {
+        options.cache = hierarchy.cache();
         mesh.corner_normals = std::vector<Vec3>();  // read by the hierarchy's construction only
         std::vector<Vec3> lo, hi;
         for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
@@ -318,6 +320,7 @@ struct Walk {
         } else {
             h.uv = w;
         }
+        h.base_barycentric = w;
         h.triangle = {drawn[0].position, drawn[1].position, drawn[2].position};
         h.level = id.level;
         h.base_face = id.face;
@@ -607,6 +610,7 @@ SurfaceStats AdaptiveSurface::stats() const {
     s.cache_evictions = h.evictions;
     s.cache_bytes = h.bytes;
     s.cache_peak_bytes = h.peak_bytes;
+    s.shared_cache = impl_->hierarchy.cache()->stats();
     const Mesh& m = impl_->mesh;
     s.memory.mesh = m.positions.capacity() * sizeof(Vec3) + m.triangles.capacity() * sizeof(Triangle) +
                     m.corner_normals.capacity() * sizeof(Vec3) + m.corner_uvs.capacity() * sizeof(Vec2);

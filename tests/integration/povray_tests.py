@@ -348,6 +348,8 @@ BAD_CASES = {
     "negative_max_level": (["  max_level -1"], 1, "max_level must be an integer"),
     "max_level_over_cap": (["  max_level {cap_plus_one}"], 1, "max_level must be an integer from 0 to {cap}"),
     "unknown_scheme": (["  scheme catmull"], 1, "Unknown subdivision scheme"),
+    "unknown_refine": (["  refine fast"], 1, "Unknown subdivision_mesh refine rule 'fast': expected error or size"),
+    "repeated_refine": (["  refine size", "  tolerance 2", "  refine error"], 3, "refine is given more than once"),
     "cache_mb_zero": (["  cache_mb 0"], 1, "cache_mb must be from 1 to 1048576 (it is 0)"),
     "cache_mb_huge": (["  cache_mb 1e30"], 1, "cache_mb must be from 1 to 1048576 (it is 1e+30)"),
     "empty_file_name": ([NO_MESH, '  file ""'], 1, "subdivision_mesh file name is empty"),
@@ -955,13 +957,14 @@ def faceted_cube_body():
 
 def test_faceted_cube_equals_mesh2(ctx):
     """A cube written with one normal per face stays a cube at every level:
-    refined to level 4 (every scheme: their crease rules keep it flat), the
+    refined to level 4 (every scheme: their crease rules keep it flat; the
+    size rule, since the error rule rightly leaves flat faces whole), the
     same picture as the mesh2 cube, silhouette and shading."""
     mods = "texture { pigment { rgb <0.9, 0.6, 0.3> } finish { specular 0.3 } } rotate <25, 35, 0>"
     native = SCENE_HEADER + "mesh2 { %s %s }\n" % (faceted_cube_body(), mods)
     _, _, a, _ = ctx.render("native_cube", native)
     for scheme in ("normal", "loop", "butterfly"):
-        subdiv = SCENE_HEADER + ("subdivision_mesh { mesh2 { %s } scheme %s max_level 4 tolerance 0.25 %s }\n"
+        subdiv = SCENE_HEADER + ("subdivision_mesh { mesh2 { %s } scheme %s refine size max_level 4 tolerance 0.25 %s }\n"
                                  % (faceted_cube_body(), scheme, mods))
         rc, err, b, _ = ctx.render("subdiv_cube_" + scheme, subdiv)
         level = deepest_level(err)
@@ -969,6 +972,43 @@ def test_faceted_cube_equals_mesh2(ctx):
         if level is None or level < 2:
             raise Failure("%s: the cube was not refined (deepest level %s)" % (scheme, level))
         assert_close("faceted cube, %s level 4 vs mesh2" % scheme, a, b, SAME_FRACTION, SAME_MEAN)
+
+
+def test_refine_rules(ctx):
+    """refine error (the default) and refine size both render the icosahedron
+    like each other and like the finest size-rule render; the error rule
+    builds fewer nodes, and the render summary names the rule and prints the
+    certified error bound (in pixels, not above the largest bound any hit
+    may have: the base mesh's own deviation is far larger than a pixel)."""
+    verts, faces, normals, uvs = icosahedron()
+    body = mesh2_body(verts, faces, None, uvs)
+    def scene(setting):
+        return SCENE_HEADER + "subdivision_mesh { mesh2 { %s } %s max_level 8 %s scale 1.4 }\n" % (
+            body, setting, ico_texture())
+    results = {}
+    for name, setting in (("default", ""), ("error", "refine error"), ("size", "refine size"),
+                          ("finest", "refine size tolerance 0.25")):
+        rc, err, image, _ = ctx.render("refine_" + name, scene(setting))
+        built = re.search(r"Subdivision nodes built:\s+(\d+)\s+refine rule:\s+(\w+)", err)
+        bound = re.search(r"Subdivision error bound:\s+([\d.]+) px max, ([\d.]+) px mean over (\d+) hits, (\d+) at max_level", err)
+        if not built or not bound:
+            raise Failure("%s: the render summary lacks the nodes built, rule or error bound" % name)
+        results[name] = (int(built.group(1)), built.group(2), float(bound.group(1)), float(bound.group(2)),
+                         int(bound.group(3)), image)
+        print("  %s: %s nodes, rule %s, bound max %s px, mean %s px over %s hits, %s at max_level"
+              % (name, built.group(1), built.group(2), bound.group(1), bound.group(2), bound.group(3), bound.group(4)))
+    if results["default"][1] != "error" or results["error"][1] != "error" or results["size"][1] != "size":
+        raise Failure("the summary names the wrong rule")
+    if results["default"][0] != results["error"][0]:
+        raise Failure("refine error is not the default")
+    if not results["error"][0] < results["size"][0]:
+        raise Failure("the error rule built %d nodes, the size rule %d" % (results["error"][0], results["size"][0]))
+    for name in ("error", "size"):
+        built, rule, bmax, bmean, hits, image = results[name]
+        if hits <= 0 or not (0.0 < bmean <= bmax):
+            raise Failure("%s: implausible bound (max %g, mean %g, %d hits)" % (name, bmax, bmean, hits))
+        assert_close("refine %s vs the finest size-rule render" % name, results["finest"][5], image,
+                     SAME_FRACTION, SAME_MEAN)
 
 
 def test_csg_faceted_cube(ctx):
@@ -984,7 +1024,7 @@ def test_csg_faceted_cube(ctx):
             op, faceted_cube_body(), other, mat, xform)
         _, _, a, _ = ctx.render("native_cube_" + op, native)
         for scheme in ("normal", "loop"):
-            subdiv = SCENE_HEADER + ("%s { subdivision_mesh { mesh2 { %s } scheme %s max_level 4 tolerance 0.25 } "
+            subdiv = SCENE_HEADER + ("%s { subdivision_mesh { mesh2 { %s } scheme %s refine size max_level 4 tolerance 0.25 } "
                                      "%s %s %s }\n" % (op, faceted_cube_body(), scheme, other, mat, xform))
             _, err, b, _ = ctx.render("subdiv_cube_%s_%s" % (op, scheme), subdiv)
             print("  %s %s: deepest level %s" % (op, scheme, deepest_level(err)))
@@ -1086,6 +1126,376 @@ def test_stock_scene_unchanged(ctx):
     print("  objects/mesh2.pov: identical to stock povray")
 
 
+# ---------------------------------------------------------------------------
+# Scenes shaped like real users' ones (issue 16): a modeller's mesh2 export, a
+# cloth, a scene where every kind of ray meets the primitive, a hundred
+# objects under one scene budget. Each checks: parses, renders, max_level 0 is
+# mesh2's picture, and the adaptive surface adds no holes or acne.
+
+
+def object_mask(image, background):
+    w, h, p = image
+    return [max(abs(p[i + c] - background[c]) for c in range(3)) > 2 for i in range(0, len(p), 3)]
+
+
+def eroded(mask, w, h, r):
+    """Pixels whose (2r+1)^2 neighbourhood is all in mask."""
+    out = [False] * len(mask)
+    for y in range(r, h - r):
+        for x in range(r, w - r):
+            out[y * w + x] = all(mask[(y + dy) * w + x + dx]
+                                 for dy in range(-r, r + 1) for dx in range(-r, r + 1))
+    return out
+
+
+def holes(image, reference, background, r=3):
+    """Pixels well inside the reference's object (r pixels from its edge) that
+    show the background in `image`: rays that slipped through the surface."""
+    w, h, _ = image
+    inside = eroded(object_mask(reference, background), w, h, r)
+    shown = object_mask(image, background)
+    return sum(1 for i in range(len(inside)) if inside[i] and not shown[i])
+
+
+def speckles(image, mask, jump=40):
+    """Object pixels brighter or darker than all four neighbours by more than
+    `jump`/255 in every channel sum sense: isolated dots, what self-shadowing
+    acne and rays finding the surface they left look like."""
+    w, h, p = image
+    lum = [p[i] + p[i + 1] + p[i + 2] for i in range(0, len(p), 3)]
+    count = 0
+    for y in range(1, h - 1):
+        for x in range(1, w - 1):
+            i = y * w + x
+            if not mask[i]:
+                continue
+            n = [lum[i - 1], lum[i + 1], lum[i - w], lum[i + w]]
+            if all(lum[i] - v > 3 * jump for v in n) or all(v - lum[i] > 3 * jump for v in n):
+                count += 1
+    return count
+
+
+def check_no_new_holes_or_acne(name, adaptive, native, background):
+    w, h, _ = native
+    hole_count = holes(adaptive, native, background)
+    mask = object_mask(native, background)
+    ours, theirs = speckles(adaptive, mask), speckles(native, mask)
+    print("  %s: %d holes, %d isolated dots (mesh2: %d)" % (name, hole_count, ours, theirs))
+    if hole_count > 0:
+        raise Failure("%s: %d pixels inside mesh2's silhouette show the background" % (name, hole_count))
+    if ours > theirs + max(2, theirs // 2):
+        raise Failure("%s: %d isolated dots against mesh2's %d (acne?)" % (name, ours, theirs))
+
+
+def lathe_export(segments=24, rings=10):
+    """A vase as modellers export mesh2 (Blender's POV-Ray exporter writes
+    this shape): unique positions, unique normals and uvs each with their own
+    index list, a texture_list and one texture index per face. The side is
+    smooth; the flat bottom meets it at a hard edge (the rim's vertices are
+    shared, their normals are not); the uv seam duplicates uvs, not vertices."""
+    profile = [(0.35 + 0.3 * math.sin(math.pi * (0.15 + 0.85 * k / rings)), -1.0 + 2.0 * k / rings)
+               for k in range(rings + 1)]
+    verts, normals, uvs = [], [], []
+    faces, nidx, uidx, tex = [], [], [], []
+    for k, (r, y) in enumerate(profile):
+        for s in range(segments):
+            a = 2 * math.pi * s / segments
+            verts.append((r * math.cos(a), y, r * math.sin(a)))
+            # Profile slope dr/dy by central differences, normal (cos a, -dr/dy, sin a).
+            k0, k1 = max(k - 1, 0), min(k + 1, rings)
+            drdy = (profile[k1][0] - profile[k0][0]) / (profile[k1][1] - profile[k0][1])
+            n = (math.cos(a), -drdy, math.sin(a))
+            length = math.sqrt(sum(c * c for c in n))
+            normals.append(tuple(c / length for c in n))
+    for k in range(rings + 1):
+        for s in range(segments + 1):
+            uvs.append((s / segments, k / rings))
+    vid = lambda k, s: k * segments + s % segments
+    uid = lambda k, s: k * (segments + 1) + s
+    for k in range(rings):
+        for s in range(segments):
+            a, b, c, d = vid(k, s), vid(k, s + 1), vid(k + 1, s + 1), vid(k + 1, s)
+            for tri, uv in (((a, c, b), (uid(k, s), uid(k + 1, s + 1), uid(k, s + 1))),
+                            ((a, d, c), (uid(k, s), uid(k + 1, s), uid(k + 1, s + 1)))):
+                faces.append(tri)
+                nidx.append(tri)
+                uidx.append(uv)
+                tex.append(0)
+    # Bottom cap: a centre vertex, the ring-0 vertices, one normal (hard edge).
+    centre = len(verts)
+    verts.append((0.0, -1.0, 0.0))
+    cap_normal = len(normals)
+    normals.append((0.0, -1.0, 0.0))
+    cap_uv = len(uvs)
+    uvs.append((0.5, 0.5))
+    for s in range(segments):
+        tri = (centre, vid(0, s), vid(0, s + 1))
+        faces.append(tri)
+        nidx.append((cap_normal,) * 3)
+        uidx.append((cap_uv, uid(0, s), uid(0, s + 1)))
+        tex.append(1)
+    return verts, normals, uvs, faces, nidx, uidx, tex
+
+
+def exported_mesh2(verts, normals, uvs, faces, nidx, uidx, tex, textures):
+    vec = lambda vs: ", ".join(fmt_vec(v) for v in vs)
+    return "\n".join([
+        "vertex_vectors { %d, %s }" % (len(verts), vec(verts)),
+        "normal_vectors { %d, %s }" % (len(normals), vec(normals)),
+        "uv_vectors { %d, %s }" % (len(uvs), vec(uvs)),
+        "texture_list { %d, %s }" % (len(textures), ", ".join(textures)),
+        "face_indices { %d, %s }" % (len(faces), ", ".join("<%d, %d, %d>, %d" % (f + (t,)) for f, t in zip(faces, tex))),
+        "normal_indices { %d, %s }" % (len(nidx), ", ".join("<%d, %d, %d>" % f for f in nidx)),
+        "uv_indices { %d, %s }" % (len(uidx), ", ".join("<%d, %d, %d>" % f for f in uidx))])
+
+
+def test_modeller_export(ctx):
+    """A modeller's mesh2 export (#declare'd, own normals with a hard edge,
+    uvs with a seam, texture_list with per-face indices, uv-mapped texture):
+    max_level 0 is mesh2's picture, whether the body is inline or the
+    declared mesh is used; adaptively refined, no holes and no acne."""
+    body = exported_mesh2(*lathe_export(), textures=[
+        "texture { uv_mapping pigment { checker rgb <0.9, 0.5, 0.2> rgb <0.2, 0.3, 0.8> scale <0.125, 0.25, 1> } "
+        "finish { specular 0.5 roughness 0.02 } }",
+        "texture { pigment { rgb <0.3, 0.8, 0.3> } }"])
+    header = SCENE_HEADER + "#declare Vase = mesh2 {\n%s\n}\n" % body
+    xform = "rotate <-25, 20, 0> scale 1.1"
+    _, _, native, _ = ctx.render("export_mesh2", header + "object { Vase %s }\n" % xform)
+    _, _, inline0, _ = ctx.render("export_inline0", SCENE_HEADER +
+                                  "subdivision_mesh { mesh2 {\n%s\n} max_level 0 %s }\n" % (body, xform))
+    _, _, declared0, _ = ctx.render("export_declared0", header + "subdivision_mesh { Vase max_level 0 %s }\n" % xform)
+    assert_close("inline max_level 0 vs mesh2", inline0, native, SAME_FRACTION, SAME_MEAN)
+    assert_close("declared max_level 0 vs mesh2", declared0, native, SAME_FRACTION, SAME_MEAN)
+    _, err, adaptive, _ = ctx.render("export_adaptive", header +
+                                     "subdivision_mesh { Vase max_level 6 tolerance 1 %s }\n" % xform)
+    if deepest_level(err) < 2:
+        raise Failure("the export did not refine (deepest level %d)" % deepest_level(err))
+    _, _, empty, _ = ctx.render("export_empty", SCENE_HEADER)
+    check_no_new_holes_or_acne("adaptive vase", adaptive, native, empty[2][0:3])
+
+
+def cloth_grid(n=16):
+    """An open n x n grid draped over a bump, with normals and uvs per vertex."""
+    verts, normals, uvs, faces = [], [], [], []
+    height = lambda x, z: 0.6 * math.exp(-3.0 * (x * x + z * z)) + 0.08 * math.sin(5 * x) * math.cos(4 * z)
+    for j in range(n + 1):
+        for i in range(n + 1):
+            x, z = -1.5 + 3.0 * i / n, -1.5 + 3.0 * j / n
+            verts.append((x, height(x, z) - 0.5, z))
+            e = 1e-4
+            dx = (height(x + e, z) - height(x - e, z)) / (2 * e)
+            dz = (height(x, z + e) - height(x, z - e)) / (2 * e)
+            nl = math.sqrt(dx * dx + 1 + dz * dz)
+            normals.append((-dx / nl, 1 / nl, -dz / nl))
+            uvs.append((i / n, j / n))
+    for j in range(n):
+        for i in range(n):
+            a, b, c, d = j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i
+            faces += [(a, c, b), (a, d, c)]
+    return verts, normals, uvs, faces
+
+
+def test_cloth_uv_normal(ctx):
+    """A cloth: an open grid with uv_mapping, a normal pattern and a
+    two-sided look; max_level 0 is mesh2's picture, the adaptive cloth has no
+    holes or acne, and +WT1 equals +WT2 byte for byte."""
+    verts, normals, uvs, faces = cloth_grid()
+    body = mesh2_body(verts, faces, normals, uvs)
+    look = ("texture { uv_mapping pigment { checker rgb <0.9, 0.2, 0.2> rgb 0.9 scale 0.0625 } "
+            "normal { bumps 0.5 scale 0.02 } finish { specular 0.3 } } "
+            "interior_texture { pigment { rgb <0.2, 0.6, 0.9> } } rotate <-20, 15, 0>")
+    header = SCENE_HEADER.replace("<0, 0.4, -4>", "<0, 1.6, -4>")
+    _, _, native, _ = ctx.render("cloth_mesh2", header + "mesh2 { %s %s }\n" % (body, look))
+    _, _, level0, _ = ctx.render("cloth_level0", header + "subdivision_mesh { mesh2 { %s } max_level 0 %s }\n" % (body, look))
+    assert_close("cloth max_level 0 vs mesh2", level0, native, SAME_FRACTION, SAME_MEAN)
+    scene = header + "subdivision_mesh { mesh2 { %s } max_level 6 tolerance 1 %s }\n" % (body, look)
+    _, _, wt1, _ = ctx.render("cloth_adaptive_wt1", scene, threads=1)
+    _, _, wt2, _ = ctx.render("cloth_adaptive_wt2", scene, threads=2)
+    if wt1 != wt2:
+        raise Failure("+WT1 and +WT2 differ in %d pixels" % differing_pixels(wt1, wt2))
+    _, _, empty, _ = ctx.render("cloth_empty", header)
+    check_no_new_holes_or_acne("adaptive cloth", wt1, native, empty[2][0:3])
+
+
+ALL_RAYS_HEADER = """#version 3.7;
+global_settings { assumed_gamma 1.0
+  radiosity { pretrace_start 0.08 pretrace_end 0.04 count 35 error_bound 1.8 recursion_limit 1 }
+  photons { spacing 0.05 autostop 0 } }
+camera { location <0, 1.2, -4.5> look_at <0, 0, 0> angle 45 }
+light_source { <3, 5, -4> rgb 1.2 area_light x * 1, z * 1, 3, 3 adaptive 0 photons { refraction on reflection on } }
+fog { distance 12 rgb <0.6, 0.65, 0.7> }
+background { rgb <0.6, 0.65, 0.7> }
+plane { y, -1 pigment { checker rgb 0.8 rgb 0.4 } finish { diffuse 0.7 } }
+box { <-3, -1, 2>, <3, 2.5, 2.2> pigment { rgb <0.8, 0.7, 0.5> } }
+"""
+
+
+def test_every_ray_kind(ctx):
+    """Radiosity, photons (through and off the objects), an area light, fog,
+    a mirror and a glass object: camera, shadow, reflection, refraction,
+    radiosity and photon rays all meet subdivision_mesh. Without photons,
+    max_level 0 gives mesh2's picture; with them the two render, photon rays
+    reach the primitive, and the adaptive scene has no holes or acne against
+    mesh2's. (The caustic under the glass is not compared pixel for pixel: a
+    caustic focuses the tiny differences between the two intersection tests,
+    and at max_level 0 about 8% of the pixels there differ.)"""
+    verts, faces, normals, uvs = icosahedron()
+    body = mesh2_body(verts, faces, normals, uvs)
+    glass = ("material { texture { pigment { rgbf <0.95, 1, 0.95, 0.9> } finish { reflection 0.05 specular 0.6 } } "
+             "interior { ior 1.45 } } photons { target refraction on reflection on } translate <-0.9, 0, 0>")
+    mirror = ("texture { pigment { rgb 0.3 } finish { reflection 0.7 specular 0.5 } } "
+              "photons { target reflection on } translate <0.9, 0, 0.4>")
+    photons = "photons { spacing 0.05 autostop 0 }"
+
+    def scene(kind, mods, with_photons=True):
+        obj = "mesh2 { %s %s }" if kind == "mesh2" else "subdivision_mesh { mesh2 { %s } " + mods + " %s }"
+        header = ALL_RAYS_HEADER if with_photons else ALL_RAYS_HEADER.replace(photons, "")
+        return header + (obj % (body, glass)) + "\n" + (obj % (body, mirror)) + "\n"
+
+    def primitive_rays(err):
+        m = re.search(r"Subdivision Mesh\s+(\d+)\s+(\d+)", err)
+        if not m:
+            raise Failure("no Subdivision Mesh row in the summary")
+        return int(m.group(1))
+    _, _, native_dark, _ = ctx.render("rays_mesh2_no_photons", scene("mesh2", "", False))
+    _, err_dark, level0_dark, _ = ctx.render("rays_level0_no_photons", scene("subdiv", "max_level 0", False))
+    assert_close("radiosity, area light, fog, mirror, glass: max_level 0 vs mesh2", level0_dark, native_dark,
+                 SAME_FRACTION, SAME_MEAN)
+    _, _, native, _ = ctx.render("rays_mesh2", scene("mesh2", ""))
+    _, err0, _, _ = ctx.render("rays_level0", scene("subdiv", "max_level 0"))
+    dark, lit = primitive_rays(err_dark), primitive_rays(err0)
+    print("  rays tested against the primitive: %d without photons, %d with" % (dark, lit))
+    if dark <= WIDTH * HEIGHT or lit <= dark:
+        raise Failure("expected secondary rays (more than %d) and photon rays (more than %d) to meet the primitive"
+                      % (WIDTH * HEIGHT, dark))
+    _, err, adaptive, _ = ctx.render("rays_adaptive", scene("subdiv", "max_level 6 tolerance 1"))
+    if deepest_level(err) < 2:
+        raise Failure("no refinement (deepest level %d)" % deepest_level(err))
+    # Silhouettes: the two objects flat white on black, seen by the same camera.
+    mask = lambda look: ("texture { pigment { rgb 1 } finish { ambient 1 diffuse 0 } } translate" +
+                         look.split("translate")[1])
+    camera = [line for line in ALL_RAYS_HEADER.splitlines() if line.startswith("camera")][0]
+    flat = "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n%s\nbackground { rgb 0 }\n" % camera
+
+    def silhouette(kind, mods):
+        obj = "mesh2 { %s %s }" if kind == "mesh2" else "subdivision_mesh { mesh2 { %s } " + mods + " %s }"
+        return flat + (obj % (body, mask(glass))) + "\n" + (obj % (body, mask(mirror))) + "\n"
+    _, _, native_mask, _ = ctx.render("rays_mask_mesh2", silhouette("mesh2", ""))
+    _, _, adaptive_mask, _ = ctx.render("rays_mask_adaptive", silhouette("subdiv", "max_level 6 tolerance 1"))
+    hole_count = holes(adaptive_mask, native_mask, (0, 0, 0))
+    ours = speckles(adaptive, object_mask(native_mask, (0, 0, 0)))
+    theirs = speckles(native, object_mask(native_mask, (0, 0, 0)))
+    print("  adaptive, every ray kind: %d holes, %d isolated dots on the objects (mesh2: %d)"
+          % (hole_count, ours, theirs))
+    if hole_count > 0:
+        raise Failure("%d pixels inside mesh2's silhouettes miss the adaptive objects" % hole_count)
+    if ours > theirs + max(2, theirs // 2):
+        raise Failure("%d isolated dots on the objects against mesh2's %d (acne?)" % (ours, theirs))
+
+
+def summary_cache(err):
+    m = re.search(r"Subdivision scene cache:\s+([\d.]+) MB budget, ([\d.]+) MB peak, (\d+) evictions", err)
+    s = re.search(r"Subdivision mesh surfaces:\s+(\d+)", err)
+    if not m or not s:
+        raise Failure("render summary lacks the scene cache line:\n%s" % tail(err, 30))
+    return int(s.group(1)), float(m.group(1)), float(m.group(2)), int(m.group(3))
+
+
+def peak_rss_mb(ctx, name, scene, threads=2):
+    """Peak RSS of povray rendering `scene` (GNU time's maximum resident set)."""
+    pov, out = ctx.path(name + ".pov"), ctx.path(name + ".ppm")
+    with open(pov, "w") as f:
+        f.write(scene)
+    timing = ctx.path(name + ".time")
+    cmd = ["/usr/bin/time", "-f", "%M", "-o", timing, ctx.povray, "+I" + pov, "+O" + out, "+FP",
+           "+W%d" % WIDTH, "+H%d" % HEIGHT, "-D", "-V", "+WT%d" % threads, "+L" + ctx.include,
+           "+L" + ctx.work]
+    start = time.monotonic()
+    proc = subprocess.run(cmd, cwd=ctx.work, stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=300)
+    err = proc.stderr.decode("utf-8", "replace") + proc.stdout.decode("utf-8", "replace")
+    with open(ctx.path(name + ".log"), "w") as f:
+        f.write(" ".join(cmd) + "\n" + err)
+    if proc.returncode != 0:
+        raise Failure("%s: povray exited %d\n%s" % (name, proc.returncode, tail(err)))
+    with open(timing) as f:
+        rss = int(f.read().split()[-1]) / 1024.0
+    print("  rendered %-28s %6.2f s, peak RSS %.0f MB" % (name, time.monotonic() - start, rss))
+    return err, read_ppm(out), rss
+
+
+def test_hundred_objects(ctx):
+    """A hundred separate subdivision_mesh objects (each its own surface, read
+    from data/bunny_lowpoly.obj) close to the camera, under one scene budget
+    of 8 MB: the summary reports 100 surfaces and one cache within its budget,
+    and peak RSS exceeds the same scene at max_level 0 (the same base meshes,
+    no tiles) by no more than the budget plus a fixed allowance for the
+    threads' fronts and allocator slack, whereas 100 per-object budgets would
+    allow 100 times as much. The picture does not depend on the budget."""
+    if not os.path.exists(os.path.join(ctx.source_dir or "", "data", "bunny_lowpoly.obj")):
+        raise Skip("no data/bunny_lowpoly.obj")
+    obj = os.path.join(ctx.source_dir, "data", "bunny_lowpoly.obj")
+    header = ("#version 3.7;\nglobal_settings { assumed_gamma 1.0 subdivision_cache_mb %s }\n"
+              "camera { location <0, 5, -4.5> look_at <0, 0, 0.2> angle 60 }\n"
+              "light_source { <4, 8, -5> rgb 1 }\nbackground { rgb <0.15, 0.18, 0.25> }\n")
+    objs = []
+    for k in range(100):
+        x, z = -2.25 + 0.5 * (k % 10), -2.25 + 0.5 * (k // 10)
+        objs.append('subdivision_mesh { file "%s" %%s pigment { rgb <%.2f, 0.6, %.2f> } '
+                    'rotate y*%d scale 0.45 translate <%g, 0, %g> }' % (obj, 0.3 + 0.007 * k, 0.9 - 0.006 * k, 37 * k, x, z))
+    body = "\n".join(objs) + "\n"
+    err0, _, rss0 = peak_rss_mb(ctx, "hundred_level0", header % 8 + body.replace("%s", "max_level 0"))
+    err, small, rss = peak_rss_mb(ctx, "hundred_8mb", header % 8 + body.replace("%s", "max_level 6 tolerance 1"))
+    surfaces, budget, peak, evictions = summary_cache(err)
+    print("  %d surfaces, scene cache budget %.0f MB, peak %.1f MB, %d evictions; RSS %.0f MB vs %.0f MB at level 0"
+          % (surfaces, budget, peak, evictions, rss, rss0))
+    if surfaces != 100:
+        raise Failure("summary counts %d surfaces, expected 100" % surfaces)
+    if budget != 8.0:
+        raise Failure("scene cache budget %.1f MB, expected global_settings' 8" % budget)
+    if evictions == 0:
+        raise Failure("the 8 MB budget never evicted: the test does not exercise it")
+    # Each of the cache's 64 shards keeps at least 2 tiles: 128 tiles of at
+    # most ~64 kB may exceed the budget.
+    if peak > budget + 8.0:
+        raise Failure("scene cache peak %.1f MB exceeds its %.0f MB budget" % (peak, budget))
+    allowance = 48.0  # two threads' fronts (64 tiles each), per-surface counters, allocator slack
+    if rss > rss0 + budget + allowance:
+        raise Failure("peak RSS %.0f MB > level-0 scene's %.0f MB + budget %.0f MB + %.0f MB"
+                      % (rss, rss0, budget, allowance))
+    _, large, _ = peak_rss_mb(ctx, "hundred_256mb", header % 256 + body.replace("%s", "max_level 6 tolerance 1"))
+    if small != large:
+        raise Failure("8 MB and 256 MB budgets differ in %d pixels" % differing_pixels(small, large))
+    print("  8 MB and 256 MB budgets: identical pictures")
+
+
+def test_scene_cache_settings(ctx):
+    """subdivision_cache_mb is read wherever global_settings stands (before or
+    after the objects), a bad value is a parse error on its line, and an
+    object's own cache_mb is a warning that names the scene setting."""
+    verts, faces, normals, uvs = icosahedron()
+    obj = "subdivision_mesh { mesh2 { %s } max_level 4 pigment { rgb 1 } }\n" % mesh2_body(verts, faces)
+    for where, scene in (("before", "global_settings { subdivision_cache_mb 3 }\n" + SCENE_HEADER + obj),
+                         ("after", SCENE_HEADER + obj + "global_settings { subdivision_cache_mb 3 }\n")):
+        _, err, _, _ = ctx.render("settings_" + where, scene)
+        _, budget, _, _ = summary_cache(err)
+        if budget != 3.0:
+            raise Failure("global_settings %s the object: budget %.1f MB, expected 3" % (where, budget))
+    _, err, _, _ = ctx.render("settings_default", SCENE_HEADER + obj)
+    print("  default scene budget: %.0f MB" % summary_cache(err)[1])
+    _, err, _, _ = ctx.render("settings_object_cache_mb", SCENE_HEADER + obj.replace("max_level 4", "max_level 4 cache_mb 16"))
+    if "cache_mb is ignored" not in err or "subdivision_cache_mb" not in err:
+        raise Failure("no warning for an object's cache_mb:\n%s" % tail(err))
+    lines = SCENE_HEADER.splitlines() + ["global_settings {", "  subdivision_cache_mb 0", "}"]
+    rc, err, _, _ = ctx.render("settings_bad", "\n".join(lines) + "\n", expect_ok=False)
+    flat = re.sub(r"\n ", " ", err)
+    m = re.search(r"line (\d+): Parse Error: ([^\n]*)", flat)
+    if rc == 0 or not m:
+        raise Failure("subdivision_cache_mb 0 accepted (exit %d)" % rc)
+    print("  line %s: %s" % (m.group(1), m.group(2)))
+    if int(m.group(1)) != len(lines) - 1 or "subdivision_cache_mb must be from 1" not in m.group(2):
+        raise Failure("expected the error on line %d naming subdivision_cache_mb" % (len(lines) - 1))
+
+
 TESTS = {
     "level0_equals_mesh2": test_level0_equals_mesh2,
     "threads_identical": test_threads_identical,
@@ -1112,6 +1522,11 @@ TESTS = {
     "csg_faceted_cube": test_csg_faceted_cube,
     "creased_textured_cylinder": test_creased_textured_cylinder,
     "loop_warns_given_normals": test_loop_warns_given_normals,
+    "modeller_export": test_modeller_export,
+    "cloth_uv_normal": test_cloth_uv_normal,
+    "every_ray_kind": test_every_ray_kind,
+    "hundred_objects": test_hundred_objects,
+    "scene_cache_settings": test_scene_cache_settings,
 }
 for _name in BAD_CASES:
     TESTS["bad_" + _name] = (lambda n: (lambda ctx: bad_case_test(ctx, n)))(_name)

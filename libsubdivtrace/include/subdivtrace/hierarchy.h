@@ -17,6 +17,7 @@
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
 #include "subdivtrace/shell.h"
+#include "subdivtrace/tile_cache.h"
 
 namespace subdivtrace {
 
@@ -83,11 +84,14 @@ struct NodeRecord {
 
 struct HierarchyCounters {
     std::uint64_t nodes_built = 0;  ///< node records computed (tiles x their nodes)
-    std::uint64_t node_hits = 0;    ///< tile cache hits
+    /// Tile lookups in the cache that found the tile (or waited for another
+    /// thread building it). This hierarchy's own, whoever shares the cache;
+    /// so are the counters below.
+    std::uint64_t node_hits = 0;
     std::uint64_t node_misses = 0;  ///< tile cache misses (tiles built)
-    std::uint64_t evictions = 0;    ///< tiles dropped from the cache to keep its budget
-    std::size_t bytes = 0;          ///< what the tile cache is charged now (bounded by its budget)
-    std::size_t peak_bytes = 0;     ///< the most it was charged (per shard, summed)
+    std::uint64_t evictions = 0;    ///< its tiles dropped from the cache to keep the cache's budget
+    std::size_t bytes = 0;          ///< what its tiles in the cache are charged now
+    std::size_t peak_bytes = 0;     ///< the most its tiles were charged at once
     std::size_t topology_bytes = 0; ///< the base topology's arrays
     std::size_t root_bytes = 0;     ///< the level-0 records
     /// The threads' fronts: their tables and the tiles they hold (each tile
@@ -100,8 +104,14 @@ class HierarchyImpl;
 
 class Hierarchy {
 public:
-    /// `mesh` must outlive the hierarchy and be validated.
+    /// `mesh` must outlive the hierarchy and be validated. A tile cache of
+    /// its own with a budget of `cache_bytes`.
     Hierarchy(const Mesh& mesh, SchemeKind scheme, int max_level, std::size_t cache_bytes,
+              ShellKind shell_kind = ShellKind::aabb_slab);
+    /// The same, sharing `cache` with other hierarchies (null: a cache of its
+    /// own with TileCache's default budget). Its tiles leave the cache when
+    /// the hierarchy is destroyed.
+    Hierarchy(const Mesh& mesh, SchemeKind scheme, int max_level, std::shared_ptr<TileCache> cache,
               ShellKind shell_kind = ShellKind::aabb_slab);
     ~Hierarchy();
 
@@ -109,6 +119,8 @@ public:
     int max_level() const;
     std::size_t face_count() const;
     bool closed() const;
+    /// The tile cache it uses (shared or its own).
+    const std::shared_ptr<TileCache>& cache() const;
 
     static NodeId root(std::uint32_t face) { return NodeId{face, 0, false, 0, 0}; }
 

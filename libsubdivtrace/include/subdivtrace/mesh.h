@@ -77,6 +77,11 @@ struct WeldReport {
     std::size_t welded_vertices = 0;
     /// Triangles dropped because welding made two of their corners one vertex.
     std::size_t collapsed_triangles = 0;
+    /// The input face each triangle of the built Mesh came from, in order
+    /// (faces that repeat a vertex or collapse when welded are not there): a
+    /// caller keeping per-face data of its own (mesh2's texture indices)
+    /// follows the library's triangles with it.
+    std::vector<std::uint32_t> kept_faces;
 };
 
 /// Builds a Mesh from raw arrays, welds coincident vertices (`weld`) and

@@ -14,6 +14,7 @@
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
 #include "subdivtrace/shell.h"
+#include "subdivtrace/tile_cache.h"
 
 namespace subdivtrace {
 
@@ -71,12 +72,19 @@ struct SurfaceOptions {
     double tolerance = 1.0;
     /// Deepest level any ray may refine to (0 = the base mesh).
     int max_level = 8;
-    /// Byte budget of the node cache, shared by all threads.
+    /// Byte budget of the surface's own tile cache, shared by all threads;
+    /// used only when `cache` (below) is null.
     std::size_t cache_mb = 64;
     View view;
     CrackRule crack_rule = CrackRule::snap_frozen_edges;
     /// Bounding volume the rays are culled against (docs/tracer.md measures both).
     ShellKind shell_kind = ShellKind::aabb_slab;
+
+    // --- Scene-wide tile cache (issue 16) ---
+    /// The tile cache this surface shares with the other surfaces of a scene
+    /// (tile_cache.h): one budget for all of them, evicting across them by
+    /// recency. Null: the surface makes a cache of its own of cache_mb.
+    std::shared_ptr<TileCache> cache;
 };
 
 /// A ray in the surface's object space. direction need not be unit length;
@@ -123,6 +131,13 @@ struct Hit {
     /// The leaf is at max_level and the refinement rule would have refined it
     /// further: raise max_level if its surface_error_px is too large.
     bool capped_by_max_level = false;
+
+    // --- Where the hit lies on its base triangle (issue 16) ---
+    /// Barycentric weights of base_face's corners 1 and 2 at the hit (corner
+    /// 0's is 1 - x - y): what `uv` interpolates the mesh's corner uvs with,
+    /// so a caller can weigh per-corner data of its own (mesh2's three
+    /// textures per face) without handing it to the library.
+    Vec2 base_barycentric{0.0};
 };
 
 /// Work counters; the surface keeps running totals, a caller may keep its own.
@@ -162,14 +177,20 @@ struct SurfaceMemory {
 struct SurfaceStats {
     TraceCounters trace;
     std::uint64_t nodes_built = 0;
-    /// Tiles dropped from the cache to keep it within cache_mb (each tile is
-    /// one entry holding up to 84 node records; see docs/tracer.md).
+    /// This surface's tiles dropped from the cache to keep the cache within
+    /// its budget (each tile is one entry holding up to 84 node records; see
+    /// docs/tracer.md). Per surface, also when the cache is shared.
     std::uint64_t cache_evictions = 0;
-    std::size_t cache_bytes = 0;       ///< what the tile cache is charged now (<= cache_mb)
-    std::size_t cache_peak_bytes = 0;  ///< the most it was charged
+    std::size_t cache_bytes = 0;       ///< what this surface's tiles are charged now
+    std::size_t cache_peak_bytes = 0;  ///< the most they were charged at once
     SurfaceMemory memory;
     std::size_t base_triangles = 0;  ///< triangles of the base mesh
     std::vector<std::uint64_t> leaf_level_histogram;  ///< index = level
+
+    // --- Scene-wide tile cache (issue 16) ---
+    /// The whole cache this surface uses, over every surface sharing it
+    /// (its budget, bytes, peak and evictions).
+    TileCacheStats shared_cache;
 };
 
 class SurfaceImpl;

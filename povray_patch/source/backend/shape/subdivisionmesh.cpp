@@ -20,10 +20,15 @@
 *             [texture_list {...}] face_indices {...} [normal_indices {...}]
 *             [uv_indices {...}] [inside_vector <x,y,z>] }
 *     | file "mesh.obj" | MESH_IDENTIFIER
-*     [scheme normal | loop | butterfly]
-*     [tolerance PIXELS] [max_level LEVEL] [cache_mb MEGABYTES]
+*     [scheme normal | loop | butterfly] [refine error | size]
+*     [tolerance PIXELS] [max_level LEVEL] [weld EPS | no_weld]
 *     [OBJECT_MODIFIERS...]
 *  }
+*
+*  global_settings { subdivision_cache_mb MEGABYTES }
+*
+*  Every subdivision_mesh of a scene shares one tile cache with one budget
+*  (subdivision_cache_mb); an object's own cache_mb is ignored with a warning.
 *
 *  Every ray descends the subdivision hierarchy of the mesh only as deep as
 *  its footprint needs (libsubdivtrace, DESIGN.md section 5): the surface
@@ -36,6 +41,7 @@
 #include "subdivtrace/mesh_report.h"
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
+#include "subdivtrace/tile_cache.h"
 #include "subdivtrace/tracer.h"
 #if __has_include("subdivtrace/mesh_io.h")
 #include "subdivtrace/mesh_io.h"
@@ -68,15 +74,18 @@ namespace pov
 * Local typedefs
 ******************************************************************************/
 
-/// What mesh2 keeps per triangle and the library does not: texture indices
-/// and uvs. Indexed by the library's base face (faces the library drops are
-/// not here either); shared by every copy of the object.
+/// What mesh2 keeps per triangle and the library does not: texture indices.
+/// Indexed by the library's base face (faces the library drops are not here
+/// either); shared by every copy of the object.
 struct SubdivisionMeshFaces
 {
 	/// Three texture indices per face: one (then -1, -1), three, or none (-1).
 	std::vector<long> Textures;
-	/// Three uvs per face; empty without uv_vectors (mesh2's uv is then 0, 0).
-	std::vector<subdivtrace::Vec2> CornerUVs;
+	/// The mesh has uvs (the library interpolates them); without, mesh2's uv
+	/// is 0, 0.
+	bool HasUVs;
+
+	SubdivisionMeshFaces() : HasUVs(false) { }
 };
 
 
@@ -131,9 +140,9 @@ SubdivisionMeshInput::SubdivisionMeshInput()
 	Make_Vector(InsideVector, 0.0, 0.0, 0.0);
 	subdivtrace::SurfaceOptions defaults;
 	Scheme = subdivtrace::scheme_name(defaults.scheme);
+	Refine = subdivtrace::refine_rule_name(defaults.refine);
 	Tolerance = defaults.tolerance;
 	MaxLevel = defaults.max_level;
-	CacheMB = int(defaults.cache_mb);
 	subdivtrace::WeldOptions weld;
 	Weld = weld.enabled;
 	WeldTolerance = weld.relative_tolerance;
@@ -268,6 +277,16 @@ int SubdivisionMesh::Max_Level_Cap()
 	return subdivtrace::k_max_level_cap;
 }
 
+std::shared_ptr<subdivtrace::TileCache> SubdivisionMesh::New_Scene_Cache()
+{
+	return std::make_shared<subdivtrace::TileCache>();
+}
+
+void SubdivisionMesh::Set_Cache_Budget(const std::shared_ptr<subdivtrace::TileCache>& cache, DBL mb)
+{
+	cache->set_budget(size_t(mb * 1048576.0));
+}
+
 
 
 /*****************************************************************************
@@ -283,33 +302,6 @@ int SubdivisionMesh::Max_Level_Cap()
 *   parser, which reports them with the file and line.
 *
 ******************************************************************************/
-
-namespace
-{
-
-// Input face of each triangle the library keeps, in order: it drops faces that
-// repeat a vertex or that welding collapses. Told the face numbers as uvs, it
-// hands them back per kept triangle.
-std::vector<size_t> kept_faces(const subdivtrace::MeshArrays& arrays, const subdivtrace::WeldOptions& weld)
-{
-	subdivtrace::MeshArrays numbered;
-	numbered.positions = arrays.positions;
-	numbered.face_indices = arrays.face_indices;
-	for (size_t f = 0; f < arrays.face_indices.size(); f++)
-	{
-		const std::int64_t i = std::int64_t(f);
-		numbered.uvs.push_back(subdivtrace::Vec2(double(f), 0.0));
-		numbered.uv_indices.push_back({{i, i, i}});
-	}
-	subdivtrace::Mesh mesh = subdivtrace::mesh_from_arrays(numbered, "mesh2", NULL, weld);
-
-	std::vector<size_t> kept(mesh.triangles.size());
-	for (size_t t = 0; t < kept.size(); t++)
-		kept[t] = size_t(mesh.corner_uvs[3 * t].x);
-	return kept;
-}
-
-}
 
 std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vector<std::string>& warnings)
 {
@@ -345,30 +337,22 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 				arrays.normal_indices.push_back({{input.NormalIndices[i], input.NormalIndices[i + 1], input.NormalIndices[i + 2]}});
 			for (size_t i = 0; i + 2 < input.UVIndices.size(); i += 3)
 				arrays.uv_indices.push_back({{input.UVIndices[i], input.UVIndices[i + 1], input.UVIndices[i + 2]}});
-			mesh = subdivtrace::mesh_from_arrays(arrays, "mesh2", &warnings, weld);
+			subdivtrace::WeldReport report;
+			mesh = subdivtrace::mesh_from_arrays(arrays, "mesh2", &warnings, weld, &report);
 
-			// Texture indices follow the faces the library kept.
+			// Texture indices follow the faces the library kept (it drops
+			// faces that repeat a vertex or that welding collapses).
 			if (!input.FaceTextures.empty())
 			{
-				std::vector<size_t> kept = kept_faces(arrays, weld);
-				if (kept.size() != mesh.triangles.size())
-					return "texture indices do not match the faces kept";
-				for (size_t t = 0; t < kept.size(); t++)
-					data->Textures.insert(data->Textures.end(), &input.FaceTextures[3 * kept[t]], &input.FaceTextures[3 * kept[t] + 3]);
+				data->Textures.reserve(3 * report.kept_faces.size());
+				for (size_t t = 0; t < report.kept_faces.size(); t++)
+				{
+					const size_t f = report.kept_faces[t];
+					data->Textures.insert(data->Textures.end(), &input.FaceTextures[3 * f], &input.FaceTextures[3 * f + 3]);
+				}
 			}
 		}
-
-		// The library interpolates uvs over each base triangle's domain. It is
-		// given the corners (0,0), (1,0), (0,1), so a hit's uv is its
-		// barycentric pair (b2, b3) on the base triangle: what mesh2 weighs
-		// textures with; the real uvs are interpolated here the same way.
-		data->CornerUVs = std::move(mesh.corner_uvs);
-		mesh.corner_uvs.assign(3 * mesh.triangles.size(), subdivtrace::Vec2(0.0));
-		for (size_t t = 0; t < mesh.triangles.size(); t++)
-		{
-			mesh.corner_uvs[3 * t + 1] = subdivtrace::Vec2(1.0, 0.0);
-			mesh.corner_uvs[3 * t + 2] = subdivtrace::Vec2(0.0, 1.0);
-		}
+		data->HasUVs = mesh.has_uvs();
 
 		subdivtrace::SurfaceOptions options;
 		std::optional<subdivtrace::SchemeKind> kind = subdivtrace::parse_scheme(input.Scheme);
@@ -378,9 +362,11 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 		const std::string normals_note = subdivtrace::given_normals_warning(mesh, *kind, input.File.empty() ? "mesh2" : input.File);
 		if (!normals_note.empty())
 			warnings.push_back(normals_note);
+		if (!subdivtrace::parse_refine_rule(input.Refine, options.refine))
+			return "unknown refine rule '" + input.Refine + "'";
 		options.tolerance = input.Tolerance;
 		options.max_level = input.MaxLevel;
-		options.cache_mb = size_t(input.CacheMB);
+		options.cache = input.Cache;
 
 		surface = std::make_shared<subdivtrace::AdaptiveSurface>(std::move(mesh), options);
 	}
@@ -442,7 +428,8 @@ namespace
 {
 
 void collect_totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Totals,
-                    std::set<const subdivtrace::AdaptiveSurface *>& seen)
+                    std::set<const subdivtrace::AdaptiveSurface *>& seen,
+                    std::set<const subdivtrace::TileCache *>& caches)
 {
 	for (vector<ObjectPtr>::const_iterator i = Objects.begin(); i != Objects.end(); i++)
 	{
@@ -457,13 +444,25 @@ void collect_totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Tot
 			Totals.NodesBuilt += s.nodes_built;
 			Totals.CacheHits += s.trace.cache_hits;
 			Totals.CacheMisses += s.trace.cache_misses;
-			Totals.CacheEvictions += s.cache_evictions;
-			Totals.CachePeakBytes += s.cache_peak_bytes;
+			Totals.RefineRules |= Subdiv->Surface()->options().refine == subdivtrace::RefineRule::size ? 2 : 1;
+			Totals.Hits += s.trace.hits;
+			Totals.HitsAtMaxLevel += s.trace.hits_at_max_level;
+			Totals.BoundSumPx += s.trace.error_bound_px_sum;
+			Totals.BoundMaxPx = std::max(Totals.BoundMaxPx, s.trace.error_bound_px_max);
+			// The scene's cache once, whichever surfaces share it.
+			const subdivtrace::TileCache *cache = Subdiv->Surface()->options().cache.get();
+			if (cache != NULL && caches.insert(cache).second)
+			{
+				const subdivtrace::TileCacheStats c = cache->stats();
+				Totals.CacheEvictions += c.evictions;
+				Totals.CachePeakBytes += c.peak_bytes;
+				Totals.CacheBudgetBytes += c.budget_bytes;
+			}
 		}
 		if (CompoundObject *Compound = dynamic_cast<CompoundObject *>(Object))
-			collect_totals(Compound->children, Totals, seen);
-		collect_totals(Object->Clip, Totals, seen);
-		collect_totals(Object->Bound, Totals, seen);
+			collect_totals(Compound->children, Totals, seen, caches);
+		collect_totals(Object->Clip, Totals, seen, caches);
+		collect_totals(Object->Bound, Totals, seen, caches);
 	}
 }
 
@@ -472,7 +471,8 @@ void collect_totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Tot
 void SubdivisionMesh::Collect_Totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Totals)
 {
 	std::set<const subdivtrace::AdaptiveSurface *> seen;
-	collect_totals(Objects, Totals, seen);
+	std::set<const subdivtrace::TileCache *> caches;
+	collect_totals(Objects, Totals, seen, caches);
 }
 
 
@@ -683,15 +683,10 @@ bool SubdivisionMesh::All_Intersections(const Ray& ray, IStack& Depth_Stack, Tra
 		MTransNormal(INormal, LocalNormal, Trans);
 		VNormalizeEq(INormal);
 
-		// hit.uv is the barycentric pair on the base triangle (see Build).
-		const DBL b2 = hit.uv.x, b3 = hit.uv.y, b1 = 1.0 - b2 - b3;
-		UV[U] = UV[V] = 0.0;
-		if (!faces->CornerUVs.empty())
-		{
-			const subdivtrace::Vec2 *uv = &faces->CornerUVs[3 * size_t(hit.base_face)];
-			UV[U] = b1 * uv[0].x + b2 * uv[1].x + b3 * uv[2].x;
-			UV[V] = b1 * uv[0].y + b2 * uv[1].y + b3 * uv[2].y;
-		}
+		// The library interpolates the mesh's uvs; mesh2 without uvs has 0, 0.
+		UV[U] = faces->HasUVs ? hit.uv.x : 0.0;
+		UV[V] = faces->HasUVs ? hit.uv.y : 0.0;
+		const DBL b2 = hit.base_barycentric.x, b3 = hit.base_barycentric.y, b1 = 1.0 - b2 - b3;
 
 		Intersection isect(hit.t, IPoint, INormal, UV, this);
 		// Object-specific data for Determine_Textures: the base face and the

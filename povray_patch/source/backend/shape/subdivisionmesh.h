@@ -25,6 +25,7 @@
 namespace subdivtrace
 {
 	class AdaptiveSurface;
+	class TileCache;
 	struct View;
 }
 
@@ -38,7 +39,7 @@ namespace pov
 // Closed meshes are solid; open ones become patches (no inside) once built.
 #define SUBDIVISION_MESH_OBJECT (BASIC_OBJECT)
 
-// Largest cache_mb accepted (1 TB).
+// Largest cache_mb and subdivision_cache_mb accepted (1 TB).
 #define SUBDIVISION_MESH_MAX_CACHE_MB 1048576.0
 
 
@@ -50,7 +51,8 @@ class Camera;
 class Mesh;
 struct SubdivisionMeshFaces;
 
-/// Node cache statistics summed over the distinct surfaces of a scene.
+/// Node statistics summed over the distinct surfaces of a scene, and those
+/// of the tile cache(s) they share (one per scene: budget, peak, evictions).
 struct SubdivisionMeshTotals
 {
 	int Surfaces;
@@ -59,9 +61,19 @@ struct SubdivisionMeshTotals
 	POV_ULONG CacheMisses;
 	POV_ULONG CacheEvictions;
 	POV_ULONG CachePeakBytes;
+	POV_ULONG CacheBudgetBytes;
+	/// Rules in use: 1 error, 2 size, 3 both.
+	int RefineRules;
+	/// Hits reported, and the certified bound on their distance to the
+	/// surface in pixels (Hit::surface_error_px): sum and largest.
+	POV_ULONG Hits;
+	POV_ULONG HitsAtMaxLevel;
+	DBL BoundSumPx;
+	DBL BoundMaxPx;
 
 	SubdivisionMeshTotals() :
-		Surfaces(0), NodesBuilt(0), CacheHits(0), CacheMisses(0), CacheEvictions(0), CachePeakBytes(0) { }
+		Surfaces(0), NodesBuilt(0), CacheHits(0), CacheMisses(0), CacheEvictions(0), CachePeakBytes(0),
+		CacheBudgetBytes(0), RefineRules(0), Hits(0), HitsAtMaxLevel(0), BoundSumPx(0.0), BoundMaxPx(0.0) { }
 };
 
 /// Everything the parser reads from a subdivision_mesh block, in plain types.
@@ -86,9 +98,13 @@ struct SubdivisionMeshInput
 
 	/// "normal", "loop" or "butterfly".
 	std::string Scheme;
+	/// "error" or "size" (libsubdivtrace's RefineRule).
+	std::string Refine;
 	DBL Tolerance;
 	int MaxLevel;
-	int CacheMB;
+	/// The scene's tile cache (global_settings' subdivision_cache_mb), shared
+	/// by every subdivision_mesh; NULL = one of the library's default budget.
+	std::shared_ptr<subdivtrace::TileCache> Cache;
 	/// Coincident vertices become one (libsubdivtrace's WeldOptions):
 	/// within WeldTolerance times the bounding-box diagonal, 0 = identical.
 	bool Weld;
@@ -148,17 +164,23 @@ class SubdivisionMesh : public ObjectBase
 		/// Deepest max_level the library accepts.
 		static int Max_Level_Cap();
 
+		/// A scene's tile cache with the library's default budget, and the
+		/// budget of global_settings { subdivision_cache_mb MB }.
+		static std::shared_ptr<subdivtrace::TileCache> New_Scene_Cache();
+		static void Set_Cache_Budget(const std::shared_ptr<subdivtrace::TileCache>& cache, DBL mb);
+
 		/// The library's surface (NULL before Build succeeded).
 		const subdivtrace::AdaptiveSurface *Surface() const { return surface.get(); }
 
 		/// Sums the statistics of every distinct surface among Objects and
-		/// their CSG children, clipping and bounding objects.
+		/// their CSG children, clipping and bounding objects, and of every
+		/// distinct tile cache they use (one per scene).
 		static void Collect_Totals(const vector<ObjectPtr>& Objects, SubdivisionMeshTotals& Totals);
 
 	private:
-		/// Shared by all copies of the object: the node cache is per surface.
+		/// Shared by all copies of the object; its tile cache is the scene's.
 		std::shared_ptr<subdivtrace::AdaptiveSurface> surface;
-		/// Per-face texture indices and corner uvs, shared by all copies.
+		/// Per-face texture indices, shared by all copies.
 		std::shared_ptr<const SubdivisionMeshFaces> faces;
 		/// texture_list, one reference per copy (as Mesh keeps them).
 		std::vector<TEXTURE *> Textures;
