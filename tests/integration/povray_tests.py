@@ -990,7 +990,8 @@ def test_refine_rules(ctx):
                           ("finest", "refine size tolerance 0.25")):
         rc, err, image, _ = ctx.render("refine_" + name, scene(setting))
         built = re.search(r"Subdivision nodes built:\s+(\d+)\s+refine rule:\s+(\w+)", err)
-        bound = re.search(r"Subdivision error bound:\s+([\d.]+) px max, ([\d.]+) px mean over (\d+) hits, (\d+) at max_level", err)
+        bound = re.search(r"Subdivision error bound px:\s+([\d.]+) max\s+([\d.]+) mean\s+"
+                          r"Subdivision bounded hits:\s+(\d+)\s+at max_level:\s+(\d+)", err)
         if not built or not bound:
             raise Failure("%s: the render summary lacks the nodes built, rule or error bound" % name)
         results[name] = (int(built.group(1)), built.group(2), float(bound.group(1)), float(bound.group(2)),
@@ -1520,6 +1521,7 @@ TESTS = {
     "weld_uv_seams_equal_mesh2": test_weld_uv_seams_equal_mesh2,
     "faceted_cube_equals_mesh2": test_faceted_cube_equals_mesh2,
     "csg_faceted_cube": test_csg_faceted_cube,
+    "refine_rules": test_refine_rules,
     "creased_textured_cylinder": test_creased_textured_cylinder,
     "loop_warns_given_normals": test_loop_warns_given_normals,
     "modeller_export": test_modeller_export,
