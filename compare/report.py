@@ -606,31 +606,32 @@ def main():
                "nodes built vs uniform triangles", "total seconds"], rows, classes)
         summary[view] = (mrows, erows)
 
-        # The paper's Fig. 2: which level each pixel's leaf came from.
-        lv_png = os.path.join(out, view, "levels_t1.png")
-        lv_txt = os.path.join(out, view, "levels_t1.txt")
-        if os.path.exists(lv_png) and os.path.exists(lv_txt):
-            md.extend(["### Levels used at tolerance 1", ""])
-            h.append("<h3>Levels used at tolerance 1</h3>")
-            para("False colours by the subdivision level of the leaf each camera ray hit "
-                 "(subdivtrace render --color-by level, headlight shading only); legend:")
-            legend_text = open(lv_txt).read()
+        # The paper's Fig. 2 (which level each pixel's leaf came from) and the
+        # certified bound per pixel, each a false-colour image with its legend.
+        def false_colour_section(stem, title, text, caption):
+            png = os.path.join(out, view, stem + ".png")
+            txt = os.path.join(out, view, stem + ".txt")
+            if not (os.path.exists(png) and os.path.exists(txt)):
+                return
+            md.extend(["### " + title, ""])
+            h.append("<h3>%s</h3>" % title)
+            para(text)
+            legend_text = open(txt).read()
             md.extend(["```", legend_text.rstrip("\n"), "```", ""])
             h.append("<pre>%s</pre>" % html.escape(legend_text))
-            images([(lv_png, "leaf level per pixel, tolerance 1")])
+            images([(png, caption)])
 
-        er_png = os.path.join(out, view, "error_t1.png")
-        er_txt = os.path.join(out, view, "error_t1.txt")
-        if os.path.exists(er_png) and os.path.exists(er_txt):
-            md.extend(["### Certified error bound at tolerance 1", ""])
-            h.append("<h3>Certified error bound at tolerance 1</h3>")
-            para("False colours by each camera ray's hit's certified bound on its distance to "
-                 "the subdivision surface, in pixels (error rule, tolerance 1; subdivtrace render "
-                 "--color-by error); legend:")
-            legend_text = open(er_txt).read()
-            md.extend(["```", legend_text.rstrip("\n"), "```", ""])
-            h.append("<pre>%s</pre>" % html.escape(legend_text))
-            images([(er_png, "certified error bound per pixel, error rule, tolerance 1")])
+        false_colour_section(
+            "levels_t1", "Levels used at tolerance 1",
+            "False colours by the subdivision level of the leaf each camera ray hit "
+            "(subdivtrace render --color-by level, headlight shading only); legend:",
+            "leaf level per pixel, tolerance 1")
+        false_colour_section(
+            "error_t1", "Certified error bound at tolerance 1",
+            "False colours by each camera ray's hit's certified bound on its distance to "
+            "the subdivision surface, in pixels (error rule, tolerance 1; subdivtrace render "
+            "--color-by error); legend:",
+            "certified error bound per pixel, error rule, tolerance 1")
 
         # Side by side: reference, adaptive tol 1, closest uniform; diff maps.
         a1 = [a for a in adaptive if a.param == 1.0] or adaptive[len(adaptive) // 2:][:1]
