@@ -37,39 +37,42 @@ constexpr std::size_t k_root_chunk = 4096;
 
 float round_up(double x);
 
-/// Loop's limit normal at a vertex whose ring is one closed fan (Halstead,
-/// Kass and DeRose 1993: the tangent masks cos(2 pi k / n), sin(2 pi k / n)
-/// over the ordered ring, centre weight 0). False where no such mask applies
-/// (open or irregular rings, creases, curve vertices).
+/// Loop's limit normal from a closed ring of n points in counter-clockwise
+/// order (Halstead, Kass and DeRose 1993: the tangent masks cos(2 pi k / n),
+/// sin(2 pi k / n), centre weight 0); zero where the tangents are parallel.
+template <class RingPoint>
+Vec3 loop_tangent_normal(std::size_t n, RingPoint ring_point) {
+    constexpr double k_two_pi = 6.283185307179586476925;
+    Vec3 t1(0.0), t2(0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+        const double a = k_two_pi * static_cast<double>(k) / static_cast<double>(n);
+        t1 += std::cos(a) * ring_point(k);
+        t2 += std::sin(a) * ring_point(k);
+    }
+    return finish_normal(glm::cross(t1, t2));
+}
+
+/// Loop's limit normal at a vertex whose ring is one closed fan; false where
+/// no such mask applies (open or irregular rings, creases, curve vertices).
 bool loop_limit_normal(const Patch& p, std::uint32_t v, Vec3& normal) {
     const VertexDerived& d = p.derived[v];
     const Patch::Ring& r = p.rings[v];
     if (!d.has_ring || !d.single_sector || d.curve_count != 0 || !r.closed || !r.regular ||
         r.count < 3)
         return false;
-    constexpr double k_two_pi = 6.283185307179586476925;
-    Vec3 t1(0.0), t2(0.0);
-    for (std::uint32_t k = 0; k < r.count; ++k) {
-        const double a = k_two_pi * k / r.count;
-        const Vec3& q = p.verts[p.ring_nbrs[r.offset + k]].position;
-        t1 += std::cos(a) * q;
-        t2 += std::sin(a) * q;
-    }
-    normal = finish_normal(glm::cross(t1, t2));
+    normal = loop_tangent_normal(r.count, [&](std::size_t k) -> const Vec3& {
+        return p.verts[p.ring_nbrs[r.offset + k]].position;
+    });
     return normal != Vec3(0.0);
 }
 
 /// The normal a leaf shades corner c of triangle t with (NodeRecord::shading_normal):
 /// closer to the limit surface's than the level's own Gouraud normal, so a leaf
 /// that stops early does not shade as a coarse mesh would.
-Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch* next, std::uint32_t t,
+Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch& next, std::uint32_t t,
                     int c) {
     const Vec3 own = p.corner_normal[3 * t + c];
-    const PatchTriangle& tri = p.tris[t];
-    if (!next || tri.id.level >= ctx.max_level) return own;
-    // The user's normals are what the user wants shaded.
-    if (ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals() && p.level == 0) return own;
-    const std::uint32_t v = tri.v[c];
+    const std::uint32_t v = p.tris[t].v[c];
     Vec3 limit;
     if (ctx.scheme == SchemeKind::loop && loop_limit_normal(p, v, limit))
         return glm::dot(limit, own) < 0.0 ? -limit : limit;
@@ -77,7 +80,7 @@ Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch* next, s
     // point) for each of its triangles in the corner's sector.
     const bool one_sector = p.derived[v].single_sector;
     const std::uint16_t sector = p.corner_sector[3 * t + c];
-    const Vec3 centre = next->verts[v].position;
+    const Vec3 centre = next.verts[v].position;
     Vec3 sum(0.0);
     for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
         const std::uint32_t slot = p.incident_slots[k];
@@ -86,8 +89,8 @@ Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch* next, s
         const PatchEdge& out = p.edges[p.tri_edges[slot]];
         const PatchEdge& in = p.edges[p.tri_edges[first + (slot % 3 + 2) % 3]];
         if (!out.valid || !in.valid) stencil_cut("an edge point next to a corner");
-        sum += angle_weighted_normal(centre, next->verts[out.point].position,
-                                     next->verts[in.point].position);
+        sum += angle_weighted_normal(centre, next.verts[out.point].position,
+                                     next.verts[in.point].position);
     }
     const Vec3 n = finish_normal(sum);
     return n == Vec3(0.0) ? own : n;
@@ -129,16 +132,8 @@ Vec3 edge_midpoint_normal(const TileContext& ctx, const Patch& p, const Patch& n
         }
     }
     if (closed && ctx.scheme == SchemeKind::loop) {
-        // Loop's tangent masks at a regular vertex (cos, sin of k * 60 deg).
-        constexpr double k_half_sqrt3 = 0.86602540378443864676;
-        constexpr double cosines[6] = {1.0, 0.5, -0.5, -1.0, -0.5, 0.5};
-        constexpr double sines[6] = {0.0, k_half_sqrt3, k_half_sqrt3, 0.0, -k_half_sqrt3, -k_half_sqrt3};
-        Vec3 t1(0.0), t2(0.0);
-        for (std::size_t k = 0; k < 6; ++k) {
-            t1 += cosines[k] * ring[k];
-            t2 += sines[k] * ring[k];
-        }
-        const Vec3 n = finish_normal(glm::cross(t1, t2));
+        // The edge point is a regular vertex of level L+1 (valence 6).
+        const Vec3 n = loop_tangent_normal(6, [&](std::size_t k) -> const Vec3& { return ring[k]; });
         if (n != Vec3(0.0)) return n;
     }
     Vec3 sum(0.0);
@@ -155,6 +150,11 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
     // At max_level too (the tile computes the next level's points for it):
     // the displacement tells whether the rule would have gone further.
     const bool refinable = next != nullptr;
+    // The user's normals shade linearly, as mesh2 does (and are what the
+    // user wants shaded); so does max_level, which draws the uniform
+    // level-max_level mesh as it is.
+    const bool given = ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals() && p.level == 0;
+    const bool quadratic = tri.id.level < ctx.max_level && !given;
     for (int c = 0; c < 3; ++c) {
         const PatchVertex& v = p.verts[tri.v[c]];
         const VertexDerived& d = p.derived[tri.v[c]];
@@ -162,14 +162,10 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
         rec.position[c] = v.position;
         rec.normal[c] = p.corner_normal[3 * t + c];
         rec.draw_position[c] = v.draw;
-        rec.shading_normal[c] = shading_normal(ctx, p, next, t, c);
+        rec.shading_normal[c] = quadratic ? shading_normal(ctx, p, *next, t, c) : rec.normal[c];
         if (refinable && !d.has_displacement) stencil_cut("an edge point next to a corner");
         rec.displacement[c] = refinable ? round_up(d.displacement) : 0.0f;
     }
-    // The user's normals shade linearly, as mesh2 does; so does max_level,
-    // which draws the uniform level-max_level mesh as it is.
-    const bool given = ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals() && p.level == 0;
-    const bool quadratic = tri.id.level < ctx.max_level && !given;
     for (int e = 0; e < 3; ++e)
         rec.edge_normal[e] = glm::vec3(quadratic ? edge_midpoint_normal(ctx, p, *next, t, e) : Vec3(0.0));
     rec.linear_shading = !quadratic;
@@ -522,8 +518,7 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     shading_.resize(vertex_count);
     displacement_.resize(vertex_count);
     edge_normal_.resize(3 * face_count);
-    linear_shading_ = (ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals()) ||
-                      ctx.max_level == 0;
+
     if (ctx.scheme == SchemeKind::loop) draw_.resize(vertex_count);
     shells_.resize(face_count);
     // In chunks of base triangles, each with the border its records read:
@@ -547,6 +542,7 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
             for (std::uint32_t v : p.tris[t].v) p.ensure_normal(ctx.topo, ctx.scheme, v);
             const NodeRecord rec = make_record(ctx, p, &next, t);
             shells_[f] = CompactShell::from(rec.shell, rec.position[0]);
+            linear_shading_ = rec.linear_shading;  // the same for every level-0 record
             for (int e = 0; e < 3; ++e) edge_normal_[3 * f + e] = rec.edge_normal[e];
             for (int c = 0; c < 3; ++c) {
                 const std::uint32_t v = p.verts[p.tris[t].v[c]].key.a;
