@@ -23,12 +23,27 @@ public:
         bool curve = false;     ///< one triangle (boundary), or a crease
         std::uint32_t face = 0;    ///< the first triangle that has the edge
         std::uint8_t corner = 0;   ///< a is that triangle's corner `corner`
+        std::uint32_t face2 = 0;   ///< the second triangle (face_count >= 2)
+        std::uint8_t corner2 = 0;  ///< the edge is its edge `corner2`
     };
 
     /// `crease_masks`: per triangle, bit e set if its edge e is a crease
     /// (creases.h); empty for none.
     LevelTopology(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
                   const std::vector<std::uint8_t>& crease_masks = {});
+
+    /// The topology of `parent`'s 1-to-4 split (uniform.h's layout: vertex
+    /// V + e is the point of parent edge e, children 4t..4t+3) with the same
+    /// result as the constructor above, edges derived from the parent's in
+    /// linear time instead of sorted. `children` must be that split of
+    /// `parent_triangles`; `crease_masks` the children's.
+    static LevelTopology refined(const LevelTopology& parent,
+                                 const std::vector<Triangle>& parent_triangles,
+                                 std::size_t parent_vertex_count,
+                                 const std::vector<Triangle>& children,
+                                 const std::vector<std::uint8_t>& crease_masks);
+    /// Whether refined() applies: every edge has at most two triangles.
+    bool manifold_edges() const { return manifold_edges_; }
 
     std::uint32_t edge_count() const { return static_cast<std::uint32_t>(edges_.size()); }
     const Edge& edge(std::uint32_t e) const { return edges_[e]; }
@@ -54,6 +69,13 @@ public:
 
     /// The ordered ring of v with positions (and curve neighbours) filled in.
     void fill_ring(std::uint32_t v, const std::vector<Vec3>& positions, VertexRing& ring) const;
+    /// Neighbour k of v's ordered ring (k < valence(v)), and the edge to it.
+    std::uint32_t ring_neighbour(std::uint32_t v, std::size_t k) const {
+        return ring_nbrs_[ring_offsets_[v] + k];
+    }
+    std::uint32_t ring_edge(std::uint32_t v, std::size_t k) const {
+        return ring_edges_[ring_offsets_[v] + k];
+    }
     /// Position of w in v's ring (0 if absent).
     std::size_t ring_index(std::uint32_t v, std::uint32_t w) const;
     bool ring_closed(std::uint32_t v) const { return ring_closed_[v] != 0; }
@@ -61,10 +83,27 @@ public:
     std::size_t valence(std::uint32_t v) const { return ring_offsets_[v + 1] - ring_offsets_[v]; }
 
 private:
+    LevelTopology() = default;
+    /// The level this one is the 1-to-4 split of (refined()).
+    struct RefinedFrom {
+        const LevelTopology* parent;
+        const std::vector<Triangle>* parent_triangles;
+        std::uint32_t old_count;
+    };
+    /// Everything but the edges: curves, incidence, sectors and rings (rings
+    /// that follow from `refined_from` are taken from it, the rest chained).
+    void build_vertex_data(std::size_t vertex_count, const std::vector<Triangle>& triangles,
+                           const std::vector<std::uint8_t>& crease_masks,
+                           const RefinedFrom* refined_from);
+    /// Appends v's ring as it follows from the parent level, if it does.
+    bool append_refined_ring(const RefinedFrom& from, std::uint32_t v);
+
+    bool manifold_edges_ = true;
     std::vector<Edge> edges_;
     std::vector<std::uint32_t> face_edges_;
     std::vector<std::size_t> ring_offsets_;
     std::vector<std::uint32_t> ring_nbrs_;
+    std::vector<std::uint32_t> ring_edges_;  ///< per ring_nbrs_ entry: its edge
     std::vector<std::uint8_t> ring_closed_;
     std::vector<std::uint8_t> ring_regular_;
     std::vector<std::uint8_t> ring_curve_;
@@ -75,5 +114,11 @@ private:
     std::vector<std::vector<std::uint32_t>> sector_labels_;  ///< per vertex, by incident slot; empty = one
     std::vector<std::uint8_t> single_sector_;
 };
+
+/// LevelTopology::sector_normals for a level without creases (every vertex
+/// one sector), without building the topology: the same bits.
+std::vector<Vec3> smooth_corner_normals(const std::vector<Vec3>& positions,
+                                        const std::vector<Triangle>& triangles,
+                                        const std::vector<Vec3>& given = {});
 
 }  // namespace subdivtrace

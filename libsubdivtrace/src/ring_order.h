@@ -21,6 +21,9 @@ struct OrderedRing {
     std::vector<Id> nbrs;
     bool closed = false;
     bool regular = true;
+    /// Scratch for the walk, kept so that reusing one OrderedRing allocates
+    /// nothing per vertex.
+    std::vector<std::uint8_t> used;
 };
 
 /// Chains pairs into one fan. Regular when every neighbour starts at most one
@@ -62,11 +65,12 @@ void order_ring(const std::vector<FanPair<Id>>& pairs, OrderedRing<Id>& out, Eq 
     }
     if (out.regular && path_starts <= 1) {
         // Walk from the start pair following from == previous to.
-        std::vector<bool> used(n, false);
+        std::vector<std::uint8_t>& used = out.used;
+        used.assign(n, 0);
         std::size_t current = start;
         out.nbrs.push_back(pairs[current].from);
         for (std::size_t step = 0; step < n; ++step) {
-            used[current] = true;
+            used[current] = 1;
             const Id& next_vertex = pairs[current].to;
             std::size_t next = n;
             for (std::size_t j = 0; j < n; ++j) {
@@ -88,7 +92,7 @@ void order_ring(const std::vector<FanPair<Id>>& pairs, OrderedRing<Id>& out, Eq 
             current = next;
         }
         bool all_used = true;
-        for (bool u : used) all_used = all_used && u;
+        for (std::uint8_t u : used) all_used = all_used && u != 0;
         if (all_used && (out.closed ? out.nbrs.size() == n : out.nbrs.size() == n + 1)) return;
         out.regular = false;
         out.closed = false;

@@ -214,6 +214,19 @@ Vec3 angle_weighted_normal(const Vec3& p, const Vec3& q, const Vec3& r) {
     return n * (angle / len);
 }
 
+void angle_weighted_normals(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec3* out) {
+    const Vec3 n = glm::cross(p1 - p0, p2 - p0);
+    const double len = glm::length(n);
+    if (!(len > 0.0) || !std::isfinite(len)) {
+        out[0] = out[1] = out[2] = Vec3(0.0);
+        return;
+    }
+    const Vec3 unit_over_len = n / len;
+    out[0] = unit_over_len * std::atan2(len, glm::dot(p1 - p0, p2 - p0));
+    out[1] = unit_over_len * std::atan2(len, glm::dot(p2 - p1, p0 - p1));
+    out[2] = unit_over_len * std::atan2(len, glm::dot(p0 - p2, p1 - p2));
+}
+
 Vec3 finish_normal(const Vec3& sum) {
     const double len = glm::length(sum);
     if (!(len > 0.0) || !std::isfinite(len)) return Vec3(0.0);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -36,27 +37,32 @@ std::vector<Vec3> given_corner_normals(const Mesh& base, const std::vector<Trian
     return given;
 }
 
-/// The scheme's normals at each corner of one level.
-std::vector<Vec3> scheme_normals(const Mesh& base, SchemeKind scheme, const LevelTopology& topo,
+/// The scheme's normals at each corner of one level; `topo` is that level's
+/// (it may be null where the level has no creases).
+std::vector<Vec3> scheme_normals(const Mesh& base, SchemeKind scheme, const LevelTopology* topo,
                                  const std::vector<Vec3>& positions,
                                  const std::vector<Triangle>& triangles, int level,
                                  bool given_every_level) {
     const bool given = scheme == SchemeKind::normal && base.has_normals() &&
                        (level == 0 || given_every_level);
-    return topo.sector_normals(positions, triangles,
-                               given ? given_corner_normals(base, triangles, level)
-                                     : std::vector<Vec3>{});
+    const std::vector<Vec3> given_normals =
+        given ? given_corner_normals(base, triangles, level) : std::vector<Vec3>{};
+    return topo != nullptr ? topo->sector_normals(positions, triangles, given_normals)
+                           : smooth_corner_normals(positions, triangles, given_normals);
 }
 
 /// One level of subdivision: positions of old vertices, then edge points,
-/// then the topology rewritten (children 4t..4t+3, see uniform.h).
+/// then the triangles rewritten (children 4t..4t+3, see uniform.h) and `topo`
+/// replaced by theirs (or reset where `child_topology` is false: the last
+/// level needs one only for creases' sectors).
 void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_every_level,
                     std::vector<Vec3>& positions, std::vector<Triangle>& triangles,
-                    LevelState& state) {
-    const LevelTopology topo(positions, triangles, state.creases);
+                    LevelState& state, std::optional<LevelTopology>& topo_slot,
+                    bool child_topology) {
+    const LevelTopology& topo = *topo_slot;
     const std::vector<Vec3> normals =
         scheme == SchemeKind::normal
-            ? scheme_normals(base, scheme, topo, positions, triangles, level, given_every_level)
+            ? scheme_normals(base, scheme, &topo, positions, triangles, level, given_every_level)
             : std::vector<Vec3>{};
 
     // Positions of the old vertices (Loop moves them; interpolating schemes keep them).
@@ -168,6 +174,13 @@ void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_e
         }
     }
 
+    // The children's connectivity follows from the parent's, unless an edge
+    // has three or more triangles (then sorting decides as for any mesh).
+    if (!child_topology) topo_slot.reset();
+    else if (topo.manifold_edges())
+        topo_slot = LevelTopology::refined(topo, triangles, old_count, children, out.creases);
+    else
+        topo_slot.emplace(next, children, out.creases);
     positions.swap(next);
     triangles.swap(children);
     state = std::move(out);
@@ -203,13 +216,17 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind scheme, in
     if (std::all_of(state.creases.begin(), state.creases.end(), [](std::uint8_t m) { return m == 0; }))
         state.creases.clear();
     state.corner_uvs = mesh.corner_uvs;
-    for (int k = 0; k < levels; ++k)
-        subdivide_once(mesh, scheme, k, given_every_level, out.positions, out.triangles, state);
+    std::optional<LevelTopology> topo(std::in_place, out.positions, out.triangles, state.creases);
+    for (int k = 0; k < levels; ++k) {
+        const bool last = k + 1 == levels;
+        subdivide_once(mesh, scheme, k, given_every_level, out.positions, out.triangles, state,
+                       topo, !last || !state.creases.empty());
+    }
     out.corner_uvs = std::move(state.corner_uvs);
     out.crease_masks = std::move(state.creases);
-    const LevelTopology topo(out.positions, out.triangles, out.crease_masks);
     out.corner_normals =
-        scheme_normals(mesh, scheme, topo, out.positions, out.triangles, levels, given_every_level);
+        scheme_normals(mesh, scheme, topo ? &*topo : nullptr, out.positions, out.triangles, levels,
+                       given_every_level);
     out.base_face.resize(out.triangles.size());
     const std::size_t per_base = std::size_t{1} << (2 * levels);
     for (std::size_t t = 0; t < out.triangles.size(); ++t) {

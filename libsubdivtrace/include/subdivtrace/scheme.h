@@ -109,6 +109,9 @@ Vec3 butterfly_edge_point(const EdgeStencil& s);
 /// the unit face normal times the corner angle at p (Thuermer & Wuethrich 1998).
 /// Zero for degenerate triangles, never NaN.
 Vec3 angle_weighted_normal(const Vec3& p, const Vec3& q, const Vec3& r);
+/// The same at all three corners of triangle (p0, p1, p2), into out[0..2]
+/// (one cross product for the three).
+void angle_weighted_normals(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec3* out);
 
 /// Normalises a sum of angle-weighted normals; a zero sum gives (0, 0, 0).
 Vec3 finish_normal(const Vec3& sum);
