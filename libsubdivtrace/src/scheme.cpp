@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/constants.hpp>
 
 namespace subdivtrace {
 
@@ -221,10 +222,15 @@ void angle_weighted_normals(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec3
         out[0] = out[1] = out[2] = Vec3(0.0);
         return;
     }
-    const Vec3 unit_over_len = n / len;
-    out[0] = unit_over_len * std::atan2(len, glm::dot(p1 - p0, p2 - p0));
-    out[1] = unit_over_len * std::atan2(len, glm::dot(p2 - p1, p0 - p1));
-    out[2] = unit_over_len * std::atan2(len, glm::dot(p0 - p2, p1 - p2));
+    const Vec3 unit = n / len;
+    const double a0 = std::atan2(len, glm::dot(p1 - p0, p2 - p0));
+    const double a1 = std::atan2(len, glm::dot(p2 - p1, p0 - p1));
+    // The angles sum to pi: the third costs no atan2, and differs from its
+    // own atan2 by a few ulps of pi at most, far below what a weight feels.
+    const double a2 = std::max(0.0, glm::pi<double>() - a0 - a1);
+    out[0] = unit * a0;
+    out[1] = unit * a1;
+    out[2] = unit * a2;
 }
 
 Vec3 finish_normal(const Vec3& sum) {
