@@ -2,6 +2,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -186,8 +187,14 @@ public:
             // in turn if it was evicted: values never depend on the cache).
             std::shared_ptr<const CachedTile> parent;
             if (root.level > 0) parent = tile(detail::parent_tile_root(root));
+            const auto start = std::chrono::steady_clock::now();
             auto built = std::make_shared<const CachedTile>(
                 context, root, parent ? &parent->tile.last_patch() : nullptr, front_tally);
+            tile_build_ns.fetch_add(
+                static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                               std::chrono::steady_clock::now() - start)
+                                               .count()),
+                std::memory_order_relaxed);
             return std::make_pair(std::shared_ptr<const CachedTile>(built), built->bytes);
         });
     }
@@ -196,6 +203,8 @@ public:
     const std::uint64_t id = g_next_hierarchy_id.fetch_add(1);
 
     std::atomic<std::uint64_t> nodes_built{0};
+    /// Time spent constructing tiles (not waiting for their parents), summed over threads.
+    std::atomic<std::uint64_t> tile_build_ns{0};
     detail::BaseTopology topo;
     detail::TileContext context;
     detail::RootRecords roots;
@@ -246,6 +255,7 @@ HierarchyCounters Hierarchy::counters() const {
     const detail::CacheOwnerTally& t = impl_->share;
     HierarchyCounters c;
     c.nodes_built = impl_->nodes_built.load();
+    c.tile_build_seconds = static_cast<double>(impl_->tile_build_ns.load()) * 1e-9;
     c.node_hits = t.hits.load(std::memory_order_relaxed);
     c.node_misses = t.misses.load(std::memory_order_relaxed);
     c.evictions = t.evictions.load(std::memory_order_relaxed);

@@ -114,6 +114,14 @@ std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& r
     if (ss) {
         const double rays = std::max<double>(1.0, static_cast<double>(ss->trace.rays));
         j << "  \"nodes_built\": " << ss->nodes_built << ",\n";
+        // What a node costs to build, and (exact while nothing was evicted,
+        // when every node built is in the cache) to keep.
+        const double nodes = std::max<double>(1.0, static_cast<double>(ss->nodes_built));
+        j << "  \"tiles_built\": " << ss->tiles_built << ", \"tile_build_seconds\": "
+          << ss->tile_build_seconds << ", \"ns_per_node_built\": "
+          << ss->tile_build_seconds * 1e9 / nodes << ",\n";
+        j << "  \"cache_peak_bytes_per_node_built\": "
+          << static_cast<double>(ss->cache_peak_bytes) / nodes << ",\n";
         j << "  \"nodes_visited_per_ray\": " << ss->trace.nodes_visited / rays << ",\n";
         j << "  \"leaves_tested_per_ray\": " << ss->trace.leaves_tested / rays << ",\n";
         j << "  \"cache_hits\": " << ss->trace.cache_hits << ", \"cache_misses\": "

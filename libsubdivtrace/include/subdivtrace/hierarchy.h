@@ -84,6 +84,9 @@ struct NodeRecord {
 
 struct HierarchyCounters {
     std::uint64_t nodes_built = 0;  ///< node records computed (tiles x their nodes)
+    /// Seconds spent constructing tiles, summed over threads (a tile's own
+    /// work: not the parent tile it starts from, nor waiting for another thread).
+    double tile_build_seconds = 0.0;
     /// Tile lookups in the cache that found the tile (or waited for another
     /// thread building it). This hierarchy's own, whoever shares the cache;
     /// so are the counters below.
