@@ -1,5 +1,6 @@
-// Uniform subdivision, per scheme and level, on a ~5k-triangle closed mesh: the
-// baseline the adaptive tracer is compared against, and OpenMesh's LoopT and
+// Uniform subdivision, per scheme and level, on a ~5k-triangle closed mesh (and
+// at level 4 on the scanned bunny of data/): the baseline the adaptive tracer
+// is compared against, and OpenMesh's LoopT and
 // ModifiedButterflyT on the same mesh (in process, no I/O, the mesh copied into
 // OpenMesh outside the timed region) as the peer. Counters: output triangles
 // per second, the bytes of the output arrays, and the process's peak resident
@@ -21,6 +22,7 @@
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 #include <OpenMesh/Tools/Subdivider/Uniform/ModifiedButterFlyT.hh>
 
+#include "subdivtrace/mesh_io.h"
 #include "subdivtrace/uniform.h"
 
 namespace {
@@ -66,9 +68,12 @@ Mesh bumpy_sphere() {
     return m;
 }
 
-const Mesh& base_mesh() {
-    static const Mesh mesh = bumpy_sphere();
-    return mesh;
+/// Mesh 0: the bumpy sphere; mesh 1: the scanned bunny (2,996 triangles,
+/// irregular valences, closed), read once.
+const Mesh& base_mesh(long which = 0) {
+    static const Mesh sphere = bumpy_sphere();
+    static const Mesh bunny = read_mesh(SUBDIVTRACE_DATA_DIR "/bunny_lowpoly.obj");
+    return which == 1 ? bunny : sphere;
 }
 
 /// Peak resident set size of this process in MB (VmHWM), or -1 if unknown.
@@ -84,8 +89,8 @@ double peak_rss_mb() {
 void BM_uniform(benchmark::State& state) {
     const auto scheme = static_cast<SchemeKind>(state.range(0));
     const int levels = static_cast<int>(state.range(1));
-    const Mesh& mesh = base_mesh();
-    state.SetLabel(scheme_name(scheme));
+    const Mesh& mesh = base_mesh(state.range(2));
+    state.SetLabel(std::string(scheme_name(scheme)) + (state.range(2) == 1 ? " bunny" : ""));
     std::size_t triangles = 0;
     double output_bytes = 0.0;
     for (auto _ : state) {
@@ -107,9 +112,11 @@ void BM_uniform(benchmark::State& state) {
 }
 
 void uniform_args(benchmark::internal::Benchmark* b) {
-    for (SchemeKind kind : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly})
-        for (int levels = 1; levels <= 4; ++levels) b->Args({static_cast<long>(kind), levels});
-    b->ArgNames({"scheme", "level"});
+    for (SchemeKind kind : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
+        for (int levels = 1; levels <= 4; ++levels) b->Args({static_cast<long>(kind), levels, 0});
+        b->Args({static_cast<long>(kind), 4, 1});
+    }
+    b->ArgNames({"scheme", "level", "mesh"});
     b->Unit(benchmark::kMillisecond);
 }
 
@@ -131,11 +138,12 @@ OmMesh to_openmesh(const Mesh& mesh) {
 void BM_openmesh(benchmark::State& state) {
     const auto scheme = static_cast<SchemeKind>(state.range(0));
     const int levels = static_cast<int>(state.range(1));
-    state.SetLabel(std::string("openmesh ") + scheme_name(scheme));
+    state.SetLabel(std::string("openmesh ") + scheme_name(scheme) +
+                   (state.range(2) == 1 ? " bunny" : ""));
     std::size_t triangles = 0;
     for (auto _ : state) {
         state.PauseTiming();
-        OmMesh om = to_openmesh(base_mesh());
+        OmMesh om = to_openmesh(base_mesh(state.range(2)));
         state.ResumeTiming();
         if (scheme == SchemeKind::loop) {
             OpenMesh::Subdivider::Uniform::LoopT<OmMesh> loop;
@@ -158,9 +166,11 @@ void BM_openmesh(benchmark::State& state) {
 }
 
 void openmesh_args(benchmark::internal::Benchmark* b) {
-    for (SchemeKind kind : {SchemeKind::loop, SchemeKind::butterfly})
-        for (int levels = 1; levels <= 4; ++levels) b->Args({static_cast<long>(kind), levels});
-    b->ArgNames({"scheme", "level"});
+    for (SchemeKind kind : {SchemeKind::loop, SchemeKind::butterfly}) {
+        for (int levels = 1; levels <= 4; ++levels) b->Args({static_cast<long>(kind), levels, 0});
+        b->Args({static_cast<long>(kind), 4, 1});
+    }
+    b->ArgNames({"scheme", "level", "mesh"});
     b->Unit(benchmark::kMillisecond);
 }
 
