@@ -1,6 +1,8 @@
 #include "patch.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 #include <glm/geometric.hpp>
 
@@ -8,6 +10,11 @@
 #include "ring_order.h"
 
 namespace subdivtrace::detail {
+
+[[noreturn]] void stencil_cut(const char* what) {
+    throw std::logic_error(std::string("subdivtrace tile: ") + what +
+                           " outside the patch's complete region");
+}
 
 namespace {
 
@@ -586,7 +593,7 @@ Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::siz
     p.tris.reserve(faces.size());
     for (std::uint32_t f : faces) {
         PatchTriangle t;
-        t.id = Hierarchy::root(f);
+        t.id = root_node(f);
         for (int c = 0; c < 3; ++c) {
             const std::uint32_t v = mesh.triangles[f][c];
             t.v[c] = stamped ? sc.local_index[v]

@@ -18,11 +18,16 @@
 #include <cstdint>
 #include <vector>
 
-#include "grid.h"
-#include "subdivtrace/hierarchy.h"
+#include "base_topology.h"
+#include "node_address.h"
 #include "subdivtrace/scheme.h"
 
 namespace subdivtrace::detail {
+
+/// Reports a value read outside a patch's complete region: the border
+/// arithmetic above guarantees every value a tile reads, so this is a bug,
+/// never bad input (throws std::logic_error).
+[[noreturn]] void stencil_cut(const char* what);
 
 /// What a patch keeps of a vertex between levels.
 struct PatchVertex {
@@ -183,15 +188,6 @@ struct BasePatchScratch {
 };
 Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::size_t count,
                  BasePatchScratch* scratch = nullptr);
-
-/// Orders VertexKeys (any fixed total order serves; this one is cheap).
-inline bool key_less(const VertexKey& x, const VertexKey& y) {
-    if (x.kind != y.kind) return x.kind < y.kind;
-    if (x.level != y.level) return x.level < y.level;
-    if (x.a != y.a) return x.a < y.a;
-    if (x.b != y.b) return x.b < y.b;
-    return x.c < y.c;
-}
 
 template <class Pred>
 std::vector<bool> Patch::band(Pred in_region) const {

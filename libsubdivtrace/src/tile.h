@@ -11,7 +11,8 @@
 #include <memory>
 #include <vector>
 
-#include "grid.h"
+#include "base_topology.h"
+#include "node_shell.h"
 #include "patch.h"
 #include "subdivtrace/hierarchy.h"
 #include "subdivtrace/shell.h"
@@ -31,21 +32,6 @@ struct TileContext {
     int max_level;
     /// Running count of node records built (for statistics).
     std::atomic<std::uint64_t>* records_built;
-};
-
-/// A shell stored in single precision relative to an origin near it, rounded
-/// outwards: what a ray reads of a node's bounds at 44 bytes instead of 88.
-struct CompactShell {
-    float lo[3];
-    float hi[3];
-    float axis[3];
-    float slab_min;
-    float slab_max;
-
-    /// `shell.axis` must already be a float-representable vector (make_record
-    /// rounds it first), so the slab keeps its meaning.
-    static CompactShell from(const Shell& shell, const Vec3& origin);
-    Shell expand(const Vec3& origin) const;
 };
 
 /// One level of a tile: vertex values on the root's sub-grid of resolution
@@ -148,8 +134,5 @@ private:
     };
     std::vector<SplitCorner> split_corners_;
 };
-
-/// The node's ancestor at `level` (the node itself at its own level).
-NodeId ancestor_at(const NodeId& id, int level);
 
 }  // namespace subdivtrace::detail

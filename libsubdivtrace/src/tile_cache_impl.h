@@ -6,9 +6,8 @@
 #include <cstdint>
 #include <memory>
 
-#include "grid.h"
 #include "lru_cache.h"
-#include "subdivtrace/hierarchy.h"
+#include "node_address.h"
 #include "subdivtrace/tile_cache.h"
 
 namespace subdivtrace::detail {

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <random>
 
-#include "grid.h"
+#include "base_topology.h"
 #include "test_meshes.h"
 
 using namespace subdivtrace;

@@ -1,9 +1,7 @@
 #pragma once
-// Addressing of the uniformly subdivided mesh without building it. At level L
-// every base triangle f carries a triangular grid of resolution N = 2^L: point
-// (i, j) has barycentric weights (N - i - j, i, j) on f's corners. A grid point
-// on a base edge or corner is shared with the neighbouring triangles, so each
-// point has one canonical VertexKey, the same whichever triangle names it.
+// The base mesh's connectivity as the hierarchy reads it (faces around a
+// vertex and on an edge, creases, curves, given normals), in flat arrays, and
+// the canonical names of grid points (node_address.h) computed from it.
 
 #include <algorithm>
 #include <array>
@@ -11,49 +9,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "node_address.h"
 #include "subdivtrace/mesh.h"
 
 namespace subdivtrace::detail {
-
-/// Canonical name of a vertex of the uniform hierarchy, level-independent: the
-/// level it is stored with is its birth level (coordinates reduced while even).
-struct VertexKey {
-    enum Kind : std::uint8_t { base_vertex = 0, edge_point = 1, face_point = 2 };
-    std::uint8_t kind = base_vertex;
-    std::uint8_t level = 0;  ///< birth level
-    std::uint32_t a = 0;     ///< base vertex | lower edge vertex | base face
-    std::uint32_t b = 0;     ///< -           | upper edge vertex | grid i
-    std::uint32_t c = 0;     ///< -           | weight on upper   | grid j
-
-    bool operator==(const VertexKey& o) const {
-        return kind == o.kind && level == o.level && a == o.a && b == o.b && c == o.c;
-    }
-    bool operator!=(const VertexKey& o) const { return !(*this == o); }
-};
-
-inline std::uint64_t mix64(std::uint64_t x) {
-    x ^= x >> 33;
-    x *= 0xff51afd7ed558ccdULL;
-    x ^= x >> 33;
-    x *= 0xc4ceb9fe1a85ec53ULL;
-    x ^= x >> 33;
-    return x;
-}
-
-struct VertexKeyHash {
-    std::size_t operator()(const VertexKey& k) const {
-        const std::uint64_t h0 = (std::uint64_t{k.kind} << 56) ^ (std::uint64_t{k.level} << 48) ^ k.a;
-        const std::uint64_t h1 = (std::uint64_t{k.b} << 32) ^ k.c;
-        return static_cast<std::size_t>(mix64(h0 ^ mix64(h1)));
-    }
-};
-
-/// A grid point of base triangle `face` at `level`.
-struct GridPoint {
-    std::uint32_t face = 0;
-    std::uint32_t i = 0;
-    std::uint32_t j = 0;
-};
 
 /// The faces around one base vertex: a view into BaseTopology's flat arrays
 /// (valid while the topology lives), in increasing face order.
@@ -152,27 +111,5 @@ private:
     };
     std::vector<GivenCorner> given_split_;  ///< corners whose normal is not their vertex's
 };
-
-/// The grid triangles of resolution n that have grid point (i, j) as a
-/// corner, each rotated so that point comes first (counter-clockwise): calls
-/// out(i1, j1, i2, j2) with the other two corners. "Up" triangle (x, y) has
-/// corners (x,y) (x+1,y) (x,y+1); "down" triangle (x, y) has (x+1,y) (x+1,y+1) (x,y+1).
-template <class Out>
-void for_each_incident_grid_triangle(std::uint32_t n, std::uint32_t i, std::uint32_t j, Out out) {
-    const long N = n, I = i, J = j;
-    auto up_ok = [&](long x, long y) { return x >= 0 && y >= 0 && x + y <= N - 1; };
-    auto down_ok = [&](long x, long y) { return x >= 0 && y >= 0 && x + y <= N - 2; };
-    auto emit = [&](long i1, long j1, long i2, long j2) {
-        out(static_cast<std::uint32_t>(i1), static_cast<std::uint32_t>(j1),
-            static_cast<std::uint32_t>(i2), static_cast<std::uint32_t>(j2));
-    };
-    // Counter-clockwise around (i, j), starting towards +i.
-    if (up_ok(I, J)) emit(I + 1, J, I, J + 1);              // up(i, j)
-    if (down_ok(I - 1, J)) emit(I, J + 1, I - 1, J + 1);    // down(i-1, j)
-    if (up_ok(I - 1, J)) emit(I - 1, J + 1, I - 1, J);      // up(i-1, j)
-    if (down_ok(I - 1, J - 1)) emit(I - 1, J, I, J - 1);    // down(i-1, j-1)
-    if (up_ok(I, J - 1)) emit(I, J - 1, I + 1, J - 1);      // up(i, j-1)
-    if (down_ok(I, J - 1)) emit(I + 1, J - 1, I + 1, J);    // down(i, j-1)
-}
 
 }  // namespace subdivtrace::detail

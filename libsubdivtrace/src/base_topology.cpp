@@ -1,4 +1,4 @@
-#include "grid.h"
+#include "base_topology.h"
 
 #include <algorithm>
 

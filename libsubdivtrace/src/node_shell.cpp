@@ -1,0 +1,143 @@
+#include "node_shell.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+namespace subdivtrace::detail {
+
+namespace {
+
+/// Descendants of an interpolating scheme's node stay within this many times
+/// the largest edge-point displacement of its neighbourhood from the hull of
+/// its corners and its three edge points: those points are the first term of
+/// the geometric series, so the rest, with ratio <= 1/2, sums to at most 1x
+/// (docs/tracer.md section 2 has the measured ratios, 1/2.7 .. 1/3.7: about
+/// 0.6x). tests/unit/test_shells.cpp holds it to containment.
+constexpr double k_displacement_factor = 1.0;
+/// Relative slack for rounding in the stencils, times the node's extent.
+constexpr double k_rounding_slack = 1e-9;
+/// Rounding steps allowed per coordinate between a base vertex and any
+/// descendant (a few operations per stencil, over up to 16 levels, with
+/// margin), times the coordinates' magnitude; the shell containment test at
+/// 1e6 from the origin holds it.
+constexpr int k_stencil_rounding_steps = 64 * 17;
+
+constexpr float k_float_inf = std::numeric_limits<float>::infinity();
+
+}  // namespace
+
+float round_down(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+
+float round_up(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
+
+CompactShell CompactShell::from(const Shell& s, const Vec3& origin) {
+    // Relative to a nearby origin, so float keeps the detail of a mesh far
+    // from (0,0,0). One float step further out covers the double rounding of
+    // the subtraction.
+    const auto down = [](double x) { return std::nextafter(round_down(x), -k_float_inf); };
+    const auto up = [](double x) { return std::nextafter(round_up(x), k_float_inf); };
+    CompactShell c;
+    for (int a = 0; a < 3; ++a) {
+        c.lo[a] = down(s.lo[a] - origin[a]);
+        c.hi[a] = up(s.hi[a] - origin[a]);
+        c.axis[a] = static_cast<float>(s.axis[a]);
+    }
+    const double offset = glm::dot(s.axis, origin);
+    c.slab_min = down(s.slab_min - offset);
+    c.slab_max = up(s.slab_max - offset);
+    return c;
+}
+
+Shell CompactShell::expand(const Vec3& origin) const {
+    Shell s;
+    s.lo = origin + Vec3(lo[0], lo[1], lo[2]);
+    s.hi = origin + Vec3(hi[0], hi[1], hi[2]);
+    s.axis = Vec3(axis[0], axis[1], axis[2]);
+    const double offset = glm::dot(s.axis, origin);
+    s.slab_min = offset + slab_min;
+    s.slab_max = offset + slab_max;
+    // The additions above round to nearest: pad by their error bound (the
+    // sums of absolute values bound every coordinate and the slab offset).
+    const Vec3 ao = glm::abs(origin) + glm::max(glm::abs(s.lo), glm::abs(s.hi));
+    s.pad(gamma_bound(4) * (ao.x + ao.y + ao.z + std::abs(offset)));
+    return s;
+}
+
+Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const NodeRecord& rec,
+                       SchemeKind scheme, ShellKind shell_kind, int max_level) {
+    const PatchTriangle& tri = p.tris[t];
+    // Slab axis: the node's own plane (or its corners' mean normal if it is degenerate).
+    Shell shell;
+    Vec3 axis = finish_normal(
+        glm::cross(rec.position[1] - rec.position[0], rec.position[2] - rec.position[0]));
+    if (axis == Vec3(0.0)) axis = finish_normal(rec.normal[0] + rec.normal[1] + rec.normal[2]);
+    // Rounded to float first: the compact shell stores this very axis.
+    shell.axis = shell_kind == ShellKind::aabb_slab ? Vec3(glm::vec3(axis)) : Vec3(0.0);
+    if (shell.axis != Vec3(0.0)) shell.slab_min = shell.slab_max = glm::dot(shell.axis, rec.position[0]);
+    for (int c = 0; c < 3; ++c) {
+        shell.grow_both(rec.position[c]);
+        shell.grow_both(rec.draw_position[c]);
+    }
+
+    if (tri.id.level < max_level) {
+        if (scheme == SchemeKind::loop) {
+            // Loop's stencils are convex combinations, so every descendant
+            // of a child (and every limit point it draws) lies in the hull of
+            // its corners' 1-rings one level down. Over the four children
+            // those rings are the corners' new positions and the edge points
+            // of every edge at a corner: half the reach of this level's rings.
+            // Across a crease nothing is read (its rules use the crease and
+            // one side), so only the corner's sector that holds the node counts.
+            for (int c = 0; c < 3; ++c) {
+                const std::uint32_t v = tri.v[c];
+                const bool one_sector = p.derived[v].single_sector;
+                const std::uint16_t sector = p.corner_sector[3 * t + c];
+                shell.grow_both(next->verts[v].position);
+                for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
+                    const std::uint32_t slot = p.incident_slots[k];
+                    if (!one_sector && p.corner_sector[slot] != sector) continue;
+                    const std::uint32_t first = slot - slot % 3;
+                    for (std::uint32_t e : {slot, first + (slot % 3 + 2) % 3}) {
+                        const PatchEdge& edge = p.edges[p.tri_edges[e]];
+                        if (!edge.valid) stencil_cut("an edge point next to a corner");
+                        shell.grow_both(next->verts[edge.point].position);
+                    }
+                }
+            }
+        } else {
+            // Interpolating: the children's edge points are exact; deeper
+            // levels are bounded by the displacement of every edge point in
+            // the corners' neighbourhood, times a series factor.
+            double max_displacement = 0.0;
+            for (std::uint32_t v : tri.v) {
+                if (!p.derived[v].has_displacement) stencil_cut("an edge point next to a corner");
+                max_displacement = std::max(max_displacement, p.derived[v].displacement);
+            }
+            for (int e = 0; e < 3; ++e)
+                shell.grow_both(next->verts[p.edges[p.tri_edges[3 * t + e]].point].position);
+            if (tri.id.level + 1 < max_level) shell.pad(k_displacement_factor * max_displacement);
+        }
+    }
+    // Slack for the stencils' rounding: relative to the node's extent, plus
+    // the rounding of coordinates of this magnitude (a pad relative to the
+    // distance from the origin would swallow a small mesh far from it: at
+    // 1e6 it was wider than a 1e-3 mesh, and no shell culled anything).
+    const Vec3 extent = shell.hi - shell.lo;
+    const Vec3 magnitude = glm::max(glm::abs(shell.lo), glm::abs(shell.hi));
+    shell.pad(k_rounding_slack * std::max({extent.x, extent.y, extent.z}) +
+              gamma_bound(k_stencil_rounding_steps) * (magnitude.x + magnitude.y + magnitude.z));
+    return shell;
+}
+
+}  // namespace subdivtrace::detail

@@ -1,0 +1,41 @@
+#pragma once
+// A node's bounding shell (DESIGN.md section 4): the rules that grow it to
+// hold every descendant down to max_level, and the compact single-precision
+// form tiles store it in.
+
+#include <array>
+#include <cstdint>
+
+#include "patch.h"
+#include "subdivtrace/hierarchy.h"
+#include "subdivtrace/shell.h"
+
+namespace subdivtrace::detail {
+
+/// A shell stored in single precision relative to an origin near it, rounded
+/// outwards: what a ray reads of a node's bounds at 44 bytes instead of 88.
+struct CompactShell {
+    float lo[3];
+    float hi[3];
+    float axis[3];
+    float slab_min;
+    float slab_max;
+
+    /// `shell.axis` must already be a float-representable vector (make_record
+    /// rounds it first), so the slab keeps its meaning.
+    static CompactShell from(const Shell& shell, const Vec3& origin);
+    Shell expand(const Vec3& origin) const;
+};
+
+/// The float nearest x that is not below x (round_up), not above it (round_down).
+float round_up(double x);
+float round_down(double x);
+
+/// The shell of patch triangle t whose record `rec` has its positions, drawn
+/// positions and normals filled in: its corners and drawn points, grown by
+/// the scheme's reach over its descendants (from `next`, the level below,
+/// unless t is at max_level) and padded for the stencils' rounding.
+Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const NodeRecord& rec,
+                       SchemeKind scheme, ShellKind shell_kind, int max_level);
+
+}  // namespace subdivtrace::detail
