@@ -33,8 +33,10 @@ struct BvhNode {
 class Bvh {
 public:
     Bvh() = default;
-    /// Builds over the boxes; items are referred to by their index.
-    void build(const std::vector<Vec3>& lo, const std::vector<Vec3>& hi, int max_leaf_size = 4);
+    /// Builds over the boxes; items are referred to by their index. The
+    /// boxes are taken (pass them with std::move) and freed before the tree
+    /// takes its final copy, so a big build holds one of them at a time.
+    void build(std::vector<Vec3> lo, std::vector<Vec3> hi, int max_leaf_size = 4);
 
     bool empty() const { return nodes_.empty(); }
     const Vec3& origin() const { return origin_; }

@@ -109,6 +109,8 @@ public:
         options.cache = hierarchy.cache();
         mesh.corner_normals = std::vector<Vec3>();  // read by the hierarchy's construction only
         std::vector<Vec3> lo, hi;
+        lo.reserve(mesh.triangles.size());
+        hi.reserve(mesh.triangles.size());
         for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
             const Shell shell = hierarchy.node(Hierarchy::root(f)).shell;
             lo.push_back(shell.lo);
@@ -116,7 +118,7 @@ public:
             bounds.lo = f == 0 ? lo.back() : glm::min(bounds.lo, lo.back());
             bounds.hi = f == 0 ? hi.back() : glm::max(bounds.hi, hi.back());
         }
-        top.build(lo, hi, 2);
+        top.build(std::move(lo), std::move(hi), 2);
         level_histogram = std::vector<std::atomic<std::uint64_t>>(k_max_level_cap + 1);
     }
 

@@ -27,7 +27,7 @@ UniformScene::UniformScene(SubdividedMesh mesh) : impl_(std::make_unique<Impl>()
         impl_->bounds.lo = t == 0 ? lo[t] : glm::min(impl_->bounds.lo, lo[t]);
         impl_->bounds.hi = t == 0 ? hi[t] : glm::max(impl_->bounds.hi, hi[t]);
     }
-    impl_->bvh.build(lo, hi, 4);
+    impl_->bvh.build(std::move(lo), std::move(hi), 4);
 }
 
 UniformScene::~UniformScene() = default;

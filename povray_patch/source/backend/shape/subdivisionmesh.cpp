@@ -152,6 +152,85 @@ SubdivisionMeshInput::SubdivisionMeshInput()
 *
 * FUNCTION
 *
+*   Begin_List, Add_Vector, Add_UV, List_Size
+*
+* DESCRIPTION
+*
+*   The mesh2 body goes straight into the library's MeshArrays, with room
+*   for the count mesh2 gives first (no copy when a list grows), up to 16 M
+*   entries at once so that an absurd count asks for no memory before the
+*   entries are there. Indices are checked by the library.
+*
+******************************************************************************/
+
+void SubdivisionMeshInput::Begin_List(List list, long count)
+{
+	if (!Arrays)
+		Arrays = std::make_shared<subdivtrace::MeshArrays>();
+	const size_t room = (size_t)std::max(0L, std::min(count, 1L << 24));
+	subdivtrace::MeshArrays& a = *Arrays;
+	switch (list)
+	{
+		case VERTEX_LIST:       a.positions.clear();      a.positions.reserve(room);      break;
+		case NORMAL_LIST:       a.normals.clear();        a.normals.reserve(room);        break;
+		case UV_LIST:           a.uvs.clear();            a.uvs.reserve(room);            break;
+		case FACE_LIST:         a.face_indices.clear();   a.face_indices.reserve(room);   break;
+		case NORMAL_INDEX_LIST: a.normal_indices.clear(); a.normal_indices.reserve(room); break;
+		case UV_INDEX_LIST:     a.uv_indices.clear();     a.uv_indices.reserve(room);     break;
+	}
+}
+
+void SubdivisionMeshInput::Add_Vector(List list, const VECTOR v)
+{
+	subdivtrace::MeshArrays& a = *Arrays;
+	switch (list)
+	{
+		case VERTEX_LIST:
+			a.positions.emplace_back(v[X], v[Y], v[Z]);
+			break;
+		case NORMAL_LIST:
+			a.normals.emplace_back(v[X], v[Y], v[Z]);
+			break;
+		case UV_LIST:
+			a.uvs.emplace_back(v[X], v[Y]);
+			break;
+		default:
+		{
+			std::vector<std::array<std::int64_t, 3> >& indices =
+				list == FACE_LIST ? a.face_indices : list == NORMAL_INDEX_LIST ? a.normal_indices : a.uv_indices;
+			const std::array<std::int64_t, 3> triple = {{ (std::int64_t)v[X], (std::int64_t)v[Y], (std::int64_t)v[Z] }};
+			indices.push_back(triple);
+			break;
+		}
+	}
+}
+
+void SubdivisionMeshInput::Add_UV(const UV_VECT uv)
+{
+	Arrays->uvs.emplace_back(uv[U], uv[V]);
+}
+
+size_t SubdivisionMeshInput::List_Size(List list) const
+{
+	if (!Arrays)
+		return 0;
+	const subdivtrace::MeshArrays& a = *Arrays;
+	switch (list)
+	{
+		case VERTEX_LIST:       return a.positions.size();
+		case NORMAL_LIST:       return a.normals.size();
+		case UV_LIST:           return a.uvs.size();
+		case FACE_LIST:         return a.face_indices.size();
+		case NORMAL_INDEX_LIST: return a.normal_indices.size();
+		case UV_INDEX_LIST:     return a.uv_indices.size();
+	}
+	return 0;
+}
+
+/*****************************************************************************
+*
+* FUNCTION
+*
 *   Read_Mesh, Copy_Mesh_Textures
 *
 * DESCRIPTION
@@ -169,7 +248,7 @@ void SubdivisionMeshInput::Read_Mesh(const Mesh& mesh)
 	VECTOR P, Q;
 	bool smooth = false;
 
-	Vertices.clear();
+	Begin_List(VERTEX_LIST, Data->Number_Of_Vertices);
 	for (long i = 0; i < Data->Number_Of_Vertices; i++)
 	{
 		Assign_Vector(Q, Data->Vertices[i]);
@@ -177,12 +256,12 @@ void SubdivisionMeshInput::Read_Mesh(const Mesh& mesh)
 			MTransPoint(P, Q, mesh.Trans);
 		else
 			Assign_Vector(P, Q);
-		Vertices.insert(Vertices.end(), P, P + 3);
+		Add_Vector(VERTEX_LIST, P);
 	}
 
-	UVs.clear();
+	Begin_List(UV_LIST, Data->Number_Of_UVCoords);
 	for (long i = 0; i < Data->Number_Of_UVCoords; i++)
-		UVs.insert(UVs.end(), Data->UVCoords[i], Data->UVCoords[i] + 2);
+		Add_UV(Data->UVCoords[i]);
 
 	// Mesh::Compute_Mesh_Triangle reorders some triangles (P1 <-> P2, with
 	// their uvs, normals and textures) for its own intersection test; the
@@ -190,8 +269,8 @@ void SubdivisionMeshInput::Read_Mesh(const Mesh& mesh)
 	// (P2 - P1), so it tells which were swapped: the subdivision needs the
 	// consistent winding the user gave.
 	std::vector<bool> swapped(Data->Number_Of_Triangles, false);
-	FaceIndices.clear();
-	UVIndices.clear();
+	Begin_List(FACE_LIST, Data->Number_Of_Triangles);
+	Begin_List(UV_INDEX_LIST, Data->Number_Of_Triangles);
 	FaceTextures.clear();
 	for (long i = 0; i < Data->Number_Of_Triangles; i++)
 	{
@@ -209,23 +288,24 @@ void SubdivisionMeshInput::Read_Mesh(const Mesh& mesh)
 		swapped[i] = (d > 0.0);
 		const int a = swapped[i] ? 1 : 0, b = swapped[i] ? 0 : 1;
 
-		const long long face[3] = { T.P1, T.P2, T.P3 };
-		const long long uv[3] = { T.UV1, T.UV2, T.UV3 };
+		const DBL face[3] = { (DBL)T.P1, (DBL)T.P2, (DBL)T.P3 };
+		const DBL uv[3] = { (DBL)T.UV1, (DBL)T.UV2, (DBL)T.UV3 };
 		const long long texture[3] = { T.Texture, T.ThreeTex ? T.Texture2 : -1, T.ThreeTex ? T.Texture3 : -1 };
-		const long long face_in_order[3] = { face[a], face[b], face[2] };
-		const long long uv_in_order[3] = { uv[a], uv[b], uv[2] };
+		VECTOR face_in_order, uv_in_order;
+		Make_Vector(face_in_order, face[a], face[b], face[2]);
+		Make_Vector(uv_in_order, uv[a], uv[b], uv[2]);
 		const long long texture_in_order[3] = { T.ThreeTex ? texture[a] : texture[0], T.ThreeTex ? texture[b] : -1, texture[2] };
-		FaceIndices.insert(FaceIndices.end(), face_in_order, face_in_order + 3);
-		UVIndices.insert(UVIndices.end(), uv_in_order, uv_in_order + 3);
-		FaceTextures.insert(FaceTextures.end(), texture_in_order, texture_in_order + 3);
+		Add_Vector(FACE_LIST, face_in_order);
+		if (Data->Number_Of_UVCoords > 0)
+			Add_Vector(UV_INDEX_LIST, uv_in_order);
+		if (mesh.Textures != NULL)
+			FaceTextures.insert(FaceTextures.end(), texture_in_order, texture_in_order + 3);
 		smooth = smooth || T.Smooth;
 	}
-	if (mesh.Textures == NULL)
-		FaceTextures.clear();
 
 	// Normals per corner: a smooth triangle's own, a flat one's face normal.
-	Normals.clear();
-	NormalIndices.clear();
+	Begin_List(NORMAL_LIST, smooth ? Data->Number_Of_Normals : 0);
+	Begin_List(NORMAL_INDEX_LIST, smooth ? Data->Number_Of_Triangles : 0);
 	if (smooth)
 	{
 		for (long i = 0; i < Data->Number_Of_Normals; i++)
@@ -238,16 +318,17 @@ void SubdivisionMeshInput::Read_Mesh(const Mesh& mesh)
 			}
 			else
 				Assign_Vector(P, Q);
-			Normals.insert(Normals.end(), P, P + 3);
+			Add_Vector(NORMAL_LIST, P);
 		}
 		for (long i = 0; i < Data->Number_Of_Triangles; i++)
 		{
 			const MESH_TRIANGLE& T = Data->Triangles[i];
-			const long long normal[3] = { T.Smooth ? T.N1 : T.Normal_Ind, T.Smooth ? T.N2 : T.Normal_Ind,
-			                              T.Smooth ? T.N3 : T.Normal_Ind };
+			const DBL normal[3] = { (DBL)(T.Smooth ? T.N1 : T.Normal_Ind), (DBL)(T.Smooth ? T.N2 : T.Normal_Ind),
+			                        (DBL)(T.Smooth ? T.N3 : T.Normal_Ind) };
 			const int a = swapped[i] ? 1 : 0, b = swapped[i] ? 0 : 1;
-			const long long normal_in_order[3] = { normal[a], normal[b], normal[2] };
-			NormalIndices.insert(NormalIndices.end(), normal_in_order, normal_in_order + 3);
+			VECTOR normal_in_order;
+			Make_Vector(normal_in_order, normal[a], normal[b], normal[2]);
+			Add_Vector(NORMAL_INDEX_LIST, normal_in_order);
 		}
 	}
 
@@ -303,7 +384,7 @@ void SubdivisionMesh::Set_Cache_Budget(const std::shared_ptr<subdivtrace::TileCa
 *
 ******************************************************************************/
 
-std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vector<std::string>& warnings)
+std::string SubdivisionMesh::Build(SubdivisionMeshInput& input, std::vector<std::string>& warnings)
 {
 	std::shared_ptr<SubdivisionMeshFaces> data = std::make_shared<SubdivisionMeshFaces>();
 
@@ -324,21 +405,11 @@ std::string SubdivisionMesh::Build(const SubdivisionMeshInput& input, std::vecto
 		}
 		else
 		{
-			subdivtrace::MeshArrays arrays;
-			for (size_t i = 0; i + 2 < input.Vertices.size(); i += 3)
-				arrays.positions.push_back(subdivtrace::Vec3(input.Vertices[i], input.Vertices[i + 1], input.Vertices[i + 2]));
-			for (size_t i = 0; i + 2 < input.Normals.size(); i += 3)
-				arrays.normals.push_back(subdivtrace::Vec3(input.Normals[i], input.Normals[i + 1], input.Normals[i + 2]));
-			for (size_t i = 0; i + 1 < input.UVs.size(); i += 2)
-				arrays.uvs.push_back(subdivtrace::Vec2(input.UVs[i], input.UVs[i + 1]));
-			for (size_t i = 0; i + 2 < input.FaceIndices.size(); i += 3)
-				arrays.face_indices.push_back({{input.FaceIndices[i], input.FaceIndices[i + 1], input.FaceIndices[i + 2]}});
-			for (size_t i = 0; i + 2 < input.NormalIndices.size(); i += 3)
-				arrays.normal_indices.push_back({{input.NormalIndices[i], input.NormalIndices[i + 1], input.NormalIndices[i + 2]}});
-			for (size_t i = 0; i + 2 < input.UVIndices.size(); i += 3)
-				arrays.uv_indices.push_back({{input.UVIndices[i], input.UVIndices[i + 1], input.UVIndices[i + 2]}});
+			if (!input.Arrays)
+				return "mesh2: no vertex_vectors or face_indices";
 			subdivtrace::WeldReport report;
-			mesh = subdivtrace::mesh_from_arrays(arrays, "mesh2", &warnings, weld, &report);
+			mesh = subdivtrace::mesh_from_arrays(*input.Arrays, "mesh2", &warnings, weld, &report);
+			input.Arrays.reset();
 
 			// Texture indices follow the faces the library kept (it drops
 			// faces that repeat a vertex or that welding collapses).

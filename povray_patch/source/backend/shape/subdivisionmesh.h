@@ -26,6 +26,7 @@ namespace subdivtrace
 {
 	class AdaptiveSurface;
 	class TileCache;
+	struct MeshArrays;
 	struct View;
 }
 
@@ -79,15 +80,14 @@ struct SubdivisionMeshTotals
 /// Everything the parser reads from a subdivision_mesh block, in plain types.
 struct SubdivisionMeshInput
 {
-	/// Path of a mesh file ("file"), or empty when the arrays below are used.
+	/// Path of a mesh file ("file"), or empty when Arrays is used.
 	std::string File;
-	/// mesh2-style arrays: xyz triples, uv pairs, index triples.
-	std::vector<double> Vertices;
-	std::vector<double> Normals;
-	std::vector<double> UVs;
-	std::vector<long long> FaceIndices;
-	std::vector<long long> NormalIndices;
-	std::vector<long long> UVIndices;
+	/// The mesh2 body (vertex_vectors, normal_vectors, uv_vectors and the
+	/// three index lists), read straight into the library's arrays: the
+	/// parser appends with Begin_List and Add_*, and Build releases them as
+	/// soon as the library has made its mesh of them.
+	std::shared_ptr<subdivtrace::MeshArrays> Arrays;
+	enum List { VERTEX_LIST, NORMAL_LIST, UV_LIST, FACE_LIST, NORMAL_INDEX_LIST, UV_INDEX_LIST };
 	/// Texture indices into Textures, three per face (mesh2's face_indices
 	/// extras: -1 where a face gives fewer than three).
 	std::vector<long long> FaceTextures;
@@ -112,6 +112,16 @@ struct SubdivisionMeshInput
 
 	/// Defaults of libsubdivtrace's SurfaceOptions.
 	SubdivisionMeshInput();
+
+	/// Starts (or restarts) one list of the mesh2 body with room for the
+	/// count mesh2 gives before it.
+	void Begin_List(List list, long count);
+	/// Appends a vertex, normal (list VERTEX_LIST, NORMAL_LIST) or index
+	/// triple (FACE_LIST, NORMAL_INDEX_LIST, UV_INDEX_LIST).
+	void Add_Vector(List list, const VECTOR v);
+	void Add_UV(const UV_VECT uv);
+	/// Entries in a list so far.
+	size_t List_Size(List list) const;
 
 	/// The arrays of a declared mesh or mesh2: vertices (its transformation
 	/// applied), normals of smooth triangles (flat ones get their face
@@ -143,7 +153,8 @@ class SubdivisionMesh : public ObjectBase
 		/// Builds the surface from parsed input. Returns an empty string on
 		/// success, else the reason (for the parser's Error()); warnings from
 		/// the library are appended to `warnings`.
-		std::string Build(const SubdivisionMeshInput& input, std::vector<std::string>& warnings);
+		/// The input's arrays are released once the library has its mesh.
+		std::string Build(SubdivisionMeshInput& input, std::vector<std::string>& warnings);
 
 		/// Keeps this copy's view of the final camera and image width (pixel
 		/// angle of DESIGN.md section 5); called once parsing is complete.
