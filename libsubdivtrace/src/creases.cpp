@@ -95,25 +95,26 @@ std::uint32_t label_sectors(const std::vector<FanCorner>& corners, std::vector<s
     };
     std::vector<Side> sides;
     sides.reserve(2 * n);
-    for (std::uint32_t k = 0; k < n; ++k) {
-        sides.push_back({corners[k].next, k, corners[k].crease_next});
-        sides.push_back({corners[k].prev, k, corners[k].crease_prev});
+    for (std::size_t k = 0; k < n; ++k) {
+        const auto corner = static_cast<std::uint32_t>(k);
+        sides.push_back({corners[k].next, corner, corners[k].crease_next});
+        sides.push_back({corners[k].prev, corner, corners[k].crease_prev});
     }
     std::sort(sides.begin(), sides.end(),
               [](const Side& x, const Side& y) { return std::tie(x.nbr, x.corner) < std::tie(y.nbr, y.corner); });
-    for (std::size_t i = 0; i < sides.size();) {
-        std::size_t j = i;
-        bool crease = false;
-        for (; j < sides.size() && sides[j].nbr == sides[i].nbr; ++j) crease = crease || sides[j].crease;
-        if (!crease)
-            for (std::size_t k = i + 1; k < j; ++k) parent[find(sides[k].corner)] = find(sides[i].corner);
-        i = j;
+    // The corners on one edge share a sector unless the edge is a crease.
+    for (auto first = sides.begin(); first != sides.end();) {
+        const auto last = std::find_if(first, sides.end(),
+                                       [&](const Side& s) { return s.nbr != first->nbr; });
+        if (std::none_of(first, last, [](const Side& s) { return s.crease; }))
+            for (auto it = first + 1; it != last; ++it) parent[find(it->corner)] = find(first->corner);
+        first = last;
     }
     labels.assign(n, UINT32_MAX);
     std::vector<std::uint32_t> root_label(n, UINT32_MAX);
     std::uint32_t count = 0;
-    for (std::uint32_t k = 0; k < n; ++k) {
-        const std::uint32_t r = find(k);
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::uint32_t r = find(static_cast<std::uint32_t>(k));
         if (root_label[r] == UINT32_MAX) root_label[r] = count++;
         labels[k] = root_label[r];
     }
