@@ -19,11 +19,10 @@
 #include <benchmark/benchmark.h>
 #include <glm/geometric.hpp>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
-#include <OpenMesh/Tools/Subdivider/Uniform/ModifiedButterFlyT.hh>
 
 #include "subdivtrace/mesh_io.h"
 #include "subdivtrace/uniform.h"
+#include "unit/openmesh_subdivide.h"
 
 namespace {
 
@@ -145,17 +144,7 @@ void BM_openmesh(benchmark::State& state) {
         state.PauseTiming();
         OmMesh om = to_openmesh(base_mesh(state.range(2)));
         state.ResumeTiming();
-        if (scheme == SchemeKind::loop) {
-            OpenMesh::Subdivider::Uniform::LoopT<OmMesh> loop;
-            loop.attach(om);
-            loop(static_cast<std::size_t>(levels));
-            loop.detach();
-        } else {
-            OpenMesh::Subdivider::Uniform::ModifiedButterflyT<OmMesh> butterfly;
-            butterfly.attach(om);
-            butterfly(static_cast<std::size_t>(levels));
-            butterfly.detach();
-        }
+        testmesh::openmesh_subdivide(om, scheme, levels);
         triangles = om.n_faces();
         benchmark::DoNotOptimize(triangles);
     }

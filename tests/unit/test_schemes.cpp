@@ -19,10 +19,9 @@
 
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
-#include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
-#include <OpenMesh/Tools/Subdivider/Uniform/ModifiedButterFlyT.hh>
 
 #include "subdivtrace/uniform.h"
+#include "unit/openmesh_subdivide.h"
 #include "unit/test_meshes.h"
 
 using namespace subdivtrace;
@@ -115,17 +114,7 @@ StructureReport check_closed_structure(const SubdividedMesh& sub) {
 
 SubdividedMesh run_openmesh(const Mesh& base, SchemeKind kind, int levels) {
     OmMesh om = to_openmesh(base);
-    if (kind == SchemeKind::loop) {
-        OpenMesh::Subdivider::Uniform::LoopT<OmMesh> loop;
-        loop.attach(om);
-        loop(static_cast<std::size_t>(levels));
-        loop.detach();
-    } else {
-        OpenMesh::Subdivider::Uniform::ModifiedButterflyT<OmMesh> butterfly;
-        butterfly.attach(om);
-        butterfly(static_cast<std::size_t>(levels));
-        butterfly.detach();
-    }
+    testmesh::openmesh_subdivide(om, kind, levels);
     const Mesh m = from_openmesh(om);
     SubdividedMesh out;
     out.levels = levels;
