@@ -97,7 +97,7 @@ void BM_uniform(benchmark::State& state) {
         benchmark::DoNotOptimize(sub.positions.data());
         triangles = sub.triangles.size();
         output_bytes = static_cast<double>(
-            sub.positions.size() * sizeof(Vec3) + sub.corner_normals.size() * sizeof(Vec3) +
+            sub.positions.size() * sizeof(Vec3) + sub.normal_bytes() +
             sub.triangles.size() * sizeof(Triangle) +
             sub.base_face.size() * sizeof(std::uint32_t));
     }

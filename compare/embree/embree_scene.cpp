@@ -88,15 +88,13 @@ void EmbreeScene::add_uniform(const SubdividedMesh& mesh) {
         geometry_, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
         mesh.triangles.size()));
     throw_on_error(device_, "allocating the triangle buffers");
-    // Embree interpolates per-vertex normals: a vertex takes its corners'
-    // normal (the compared meshes have no creases, so its corners agree).
+    // Embree interpolates per-vertex normals: a vertex takes its first
+    // corner's (the compared meshes have no creases, so its corners agree).
     normals_.resize(mesh.positions.size() * 3);
     for (std::size_t v = 0; v < mesh.positions.size(); ++v)
         for (int k = 0; k < 3; ++k) positions[3 * v + k] = static_cast<float>(mesh.positions[v][k]);
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-        for (int c = 0; c < 3; ++c)
-            for (int k = 0; k < 3; ++k)
-                normals_[3 * mesh.triangles[t][c] + k] = static_cast<float>(mesh.corner_normals[3 * t + c][k]);
+    for (std::size_t v = 0; v < mesh.vertex_normals.size(); ++v)
+        for (int k = 0; k < 3; ++k) normals_[3 * v + k] = static_cast<float>(mesh.vertex_normals[v][k]);
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         for (int k = 0; k < 3; ++k) indices[3 * t + k] = mesh.triangles[t][k];
     index_buffer_ = indices;

@@ -338,19 +338,15 @@ std::vector<Vec3> weighted_corner_normals(const std::vector<Vec3>& positions,
     return out;
 }
 
-/// Replaces each corner's weighted normal of a vertex `smooth` accepts by
-/// the normalised sum over all of the vertex's corners. The sums run in
-/// triangle order, as the incidence lists do, so both give the same bits.
-template <class Smooth>
-void sum_over_vertices(std::size_t vertex_count, const std::vector<Triangle>& triangles,
-                       std::vector<Vec3>& corners, Smooth smooth) {
+/// Per vertex, the normalised sum of its corners' normals, in triangle
+/// order (as the incidence lists run, so both give the same bits).
+std::vector<Vec3> vertex_sums(std::size_t vertex_count, const std::vector<Triangle>& triangles,
+                              const std::vector<Vec3>& corners) {
     std::vector<Vec3> sums(vertex_count, Vec3(0.0));
     for (std::size_t t = 0; t < triangles.size(); ++t)
         for (int c = 0; c < 3; ++c) sums[triangles[t][c]] += corners[3 * t + c];
     for (Vec3& sum : sums) sum = finish_normal(sum);
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-        for (int c = 0; c < 3; ++c)
-            if (smooth(triangles[t][c])) corners[3 * t + c] = sums[triangles[t][c]];
+    return sums;
 }
 
 }  // namespace
@@ -374,8 +370,10 @@ std::vector<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& positio
         for (std::size_t k = inc_offsets_[v]; k < inc_offsets_[v + 1]; ++k)
             out[inc_slots_[k]] = sums[labels[k - inc_offsets_[v]]];
     }
-    sum_over_vertices(positions.size(), triangles, out,
-                      [&](std::uint32_t v) { return single_sector_[v] != 0; });
+    const std::vector<Vec3> smooth = vertex_sums(positions.size(), triangles, out);
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+        for (int c = 0; c < 3; ++c)
+            if (single_sector_[triangles[t][c]]) out[3 * t + c] = smooth[triangles[t][c]];
     return out;
 }
 
@@ -383,8 +381,22 @@ std::vector<Vec3> smooth_corner_normals(const std::vector<Vec3>& positions,
                                         const std::vector<Triangle>& triangles,
                                         const std::vector<Vec3>& given) {
     std::vector<Vec3> out = weighted_corner_normals(positions, triangles, given);
-    sum_over_vertices(positions.size(), triangles, out, [](std::uint32_t) { return true; });
+    const std::vector<Vec3> sums = vertex_sums(positions.size(), triangles, out);
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+        for (int c = 0; c < 3; ++c) out[3 * t + c] = sums[triangles[t][c]];
     return out;
+}
+
+std::vector<Vec3> smooth_vertex_normals(const std::vector<Vec3>& positions,
+                                        const std::vector<Triangle>& triangles) {
+    std::vector<Vec3> sums(positions.size(), Vec3(0.0));
+    Vec3 corner[3];
+    for (const Triangle& tri : triangles) {
+        angle_weighted_normals(positions[tri[0]], positions[tri[1]], positions[tri[2]], corner);
+        for (int c = 0; c < 3; ++c) sums[tri[c]] += corner[c];
+    }
+    for (Vec3& sum : sums) sum = finish_normal(sum);
+    return sums;
 }
 
 }  // namespace subdivtrace

@@ -120,5 +120,9 @@ private:
 std::vector<Vec3> smooth_corner_normals(const std::vector<Vec3>& positions,
                                         const std::vector<Triangle>& triangles,
                                         const std::vector<Vec3>& given = {});
+/// The same once per vertex (every corner of a vertex has it), without a
+/// per-corner array.
+std::vector<Vec3> smooth_vertex_normals(const std::vector<Vec3>& positions,
+                                        const std::vector<Triangle>& triangles);
 
 }  // namespace subdivtrace

@@ -224,9 +224,29 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind scheme, in
     }
     out.corner_uvs = std::move(state.corner_uvs);
     out.crease_masks = std::move(state.creases);
-    out.corner_normals =
-        scheme_normals(mesh, scheme, topo ? &*topo : nullptr, out.positions, out.triangles, levels,
-                       given_every_level);
+    const bool given = scheme == SchemeKind::normal && mesh.has_normals() &&
+                       (levels == 0 || given_every_level);
+    if (!topo && !given) {
+        // No crease and no given normal at the last level: one normal per
+        // vertex, summed directly (no per-corner array).
+        out.vertex_normals = smooth_vertex_normals(out.positions, out.triangles);
+    } else {
+        const std::vector<Vec3> corners = scheme_normals(
+            mesh, scheme, topo ? &*topo : nullptr, out.positions, out.triangles, levels, given_every_level);
+        // A vertex's first corner (in slot order) names its normal; the
+        // corners that differ are kept apart.
+        out.vertex_normals.assign(out.positions.size(), Vec3(0.0));
+        std::vector<std::uint8_t> named(out.positions.size(), 0);
+        for (std::size_t slot = 0; slot < corners.size(); ++slot) {
+            const std::uint32_t v = out.triangles[slot / 3][slot % 3];
+            if (!named[v]) {
+                named[v] = 1;
+                out.vertex_normals[v] = corners[slot];
+            } else if (corners[slot] != out.vertex_normals[v]) {
+                out.split_corners.push_back({static_cast<std::uint32_t>(slot), corners[slot]});
+            }
+        }
+    }
     out.base_face.resize(out.triangles.size());
     const std::size_t per_base = std::size_t{1} << (2 * levels);
     for (std::size_t t = 0; t < out.triangles.size(); ++t) {
@@ -252,8 +272,27 @@ Mesh to_mesh(const SubdividedMesh& sub) {
     mesh.positions = sub.positions;
     mesh.triangles = sub.triangles;
     mesh.corner_uvs = sub.corner_uvs;
-    mesh.corner_normals = sub.corner_normals;
+    mesh.corner_normals = sub.corner_normals();
     return mesh;
+}
+
+Vec3 SubdividedMesh::corner_normal(std::size_t t, int c) const {
+    const auto slot = static_cast<std::uint32_t>(3 * t + static_cast<std::size_t>(c));
+    if (!split_corners.empty()) {
+        const auto it = std::lower_bound(
+            split_corners.begin(), split_corners.end(), slot,
+            [](const SplitCorner& s, std::uint32_t x) { return s.slot < x; });
+        if (it != split_corners.end() && it->slot == slot) return it->normal;
+    }
+    return vertex_normals[triangles[t][c]];
+}
+
+std::vector<Vec3> SubdividedMesh::corner_normals() const {
+    std::vector<Vec3> out(3 * triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+        for (int c = 0; c < 3; ++c) out[3 * t + c] = vertex_normals[triangles[t][c]];
+    for (const SplitCorner& s : split_corners) out[s.slot] = s.normal;
+    return out;
 }
 
 }  // namespace subdivtrace

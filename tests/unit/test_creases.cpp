@@ -117,7 +117,7 @@ TEST_CASE("the normal scheme's level-0 normals are the given ones", "[creases][g
         const NodeRecord rec = hierarchy.node(Hierarchy::root(f));
         for (int c = 0; c < 3; ++c) {
             const Vec3 given = glm::normalize(mesh.corner_normals[3 * f + c]);
-            worst_uniform = std::max(worst_uniform, glm::length(level0.corner_normals[3 * f + c] - given));
+            worst_uniform = std::max(worst_uniform, glm::length(level0.corner_normal(f, c) - given));
             worst_node = std::max(worst_node, glm::length(rec.normal[c] - given));
         }
     }
@@ -156,7 +156,7 @@ TEST_CASE("a cube with faceted normals stays a cube in every scheme", "[creases]
             const Vec3 face = glm::normalize(glm::cross(sub.positions[tri[1]] - sub.positions[tri[0]],
                                                         sub.positions[tri[2]] - sub.positions[tri[0]]));
             for (int c = 0; c < 3; ++c)
-                normal_error = std::max(normal_error, glm::length(sub.corner_normals[3 * t + c] - face));
+                normal_error = std::max(normal_error, glm::length(sub.corner_normal(t, c) - face));
         }
         CHECK(off_surface <= 1e-15);
         CHECK(normal_error <= 1e-15);
@@ -184,7 +184,7 @@ TEST_CASE("a cylinder with split rim normals keeps sharp rims and round sides", 
     for (std::size_t t = 0; t < sub.triangles.size(); ++t)
         for (int c = 0; c < 3; ++c) {
             const std::uint32_t v = sub.triangles[t][c];
-            const Vec3& n = sub.corner_normals[3 * t + c];
+            const Vec3 n = sub.corner_normal(t, c);
             if (first_normal[v] == Vec3(0.0)) first_normal[v] = n;
             spread[v] = std::max(spread[v], angle_between(first_normal[v], n));
         }

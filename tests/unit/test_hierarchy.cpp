@@ -61,7 +61,7 @@ Worst compare_with_uniform(const Mesh& mesh, SchemeKind scheme, int level,
             }
             worst.position = std::max(worst.position, best / scale);
             worst.normal = std::max(worst.normal,
-                                    glm::length(rec.normal[best_c] - uniform.corner_normals[3 * t + k]));
+                                    glm::length(rec.normal[best_c] - uniform.corner_normal(t, k)));
         }
     }
     return worst;
@@ -223,7 +223,7 @@ TEST_CASE("shading normals are the next level's normals at a node's corners and 
                                 if (d < best) best = d, match = q;
                             }
                             REQUIRE(best < 1e-12);
-                            const Vec3 truth = next.corner_normals[3 * u + static_cast<std::size_t>(match)];
+                            const Vec3 truth = next.corner_normal(u, match);
                             const int index = map[k].index;
                             if (map[k].is_edge) {
                                 worst_edge = std::max(worst_edge, angle(Vec3(rec.edge_normal[index]), truth));

@@ -65,7 +65,7 @@ StructureReport check_closed_structure(const SubdividedMesh& sub) {
     StructureReport r;
     const std::size_t vertex_count = sub.positions.size();
     for (const Vec3& p : sub.positions) r.non_finite += finite(p) ? 0 : 1;
-    for (const Vec3& n : sub.corner_normals) r.non_finite += finite(n) ? 0 : 1;
+    for (const Vec3& n : sub.corner_normals()) r.non_finite += finite(n) ? 0 : 1;
 
     std::unordered_map<std::uint64_t, int> directed;
     std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> fans(vertex_count);
@@ -386,7 +386,8 @@ TEST_CASE("every level of a closed mesh stays closed and manifold", "[schemes][s
                 const SubdividedMesh sub = subdivide_uniform(base, kind, levels);
                 CHECK(sub.triangles.size() == base.triangles.size() << (2 * levels));
                 CHECK(sub.base_face.size() == sub.triangles.size());
-                CHECK(sub.corner_normals.size() == 3 * sub.triangles.size());
+                CHECK(sub.vertex_normals.size() == sub.positions.size());
+                CHECK(sub.corner_normals().size() == 3 * sub.triangles.size());
                 const StructureReport r = check_closed_structure(sub);
                 CHECK(r.bad_indices == 0);
                 CHECK(r.non_finite == 0);
@@ -589,7 +590,7 @@ TEST_CASE("stiff inputs give finite, bounded output for every scheme", "[schemes
                 CHECK(sub.triangles.size() == base.triangles.size() << (2 * levels));
                 std::size_t non_finite = 0, out_of_range = 0, far = 0;
                 for (const Vec3& p : sub.positions) non_finite += finite(p) ? 0 : 1;
-                for (const Vec3& n : sub.corner_normals) non_finite += finite(n) ? 0 : 1;
+                for (const Vec3& n : sub.corner_normals()) non_finite += finite(n) ? 0 : 1;
                 for (const Triangle& t : sub.triangles)
                     for (std::uint32_t v : t) {
                         out_of_range += v < sub.positions.size() ? 0 : 1;

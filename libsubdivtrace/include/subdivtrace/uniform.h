@@ -4,6 +4,7 @@
 /// reference the adaptive hierarchy must equal, and the baseline it is timed
 /// against.
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -23,11 +24,28 @@ struct SubdividedMesh {
     int levels = 0;
     std::vector<Vec3> positions;
     std::vector<Triangle> triangles;
-    /// The scheme's normal at each corner (3t + c) of the final level: the
-    /// angle-weighted Gouraud normal of the vertex over its sector (the
-    /// triangles around it between creases), or for the normal scheme at a
-    /// base vertex the mesh's given normal (docs/schemes.md, "Given normals").
-    std::vector<Vec3> corner_normals;
+    /// The scheme's normal at each corner of the final level
+    /// (corner_normal()): the angle-weighted Gouraud normal of the vertex over
+    /// its sector (the triangles around it between creases), or for the
+    /// normal scheme at a base vertex the mesh's given normal
+    /// (docs/schemes.md, "Given normals"). Kept once per vertex (its first
+    /// corner's, in slot order), plus the corners whose normal differs: those
+    /// across a crease, or with given normals of their own.
+    std::vector<Vec3> vertex_normals;
+    struct SplitCorner {
+        std::uint32_t slot;  ///< 3t + c, ascending
+        Vec3 normal;
+    };
+    std::vector<SplitCorner> split_corners;
+
+    /// The normal at corner c of triangle t.
+    Vec3 corner_normal(std::size_t t, int c) const;
+    /// Every corner's normal, 3 per triangle (what a Mesh holds).
+    std::vector<Vec3> corner_normals() const;
+    /// Heap bytes of the normals (vertex_normals and split_corners).
+    std::size_t normal_bytes() const {
+        return vertex_normals.capacity() * sizeof(Vec3) + split_corners.capacity() * sizeof(SplitCorner);
+    }
     /// Per triangle, bit e set if its edge e (corner e to e + 1) is a crease
     /// (a half of a base crease edge); empty if the mesh has none.
     std::vector<std::uint8_t> crease_masks;

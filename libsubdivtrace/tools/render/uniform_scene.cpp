@@ -51,9 +51,8 @@ bool UniformScene::intersect(const Ray& ray, Hit& hit) const {
                     th.b2 * m.positions[tri[2]];
         hit.geometric_normal = finish_normal(glm::cross(m.positions[tri[1]] - m.positions[tri[0]],
                                                         m.positions[tri[2]] - m.positions[tri[0]]));
-        hit.normal = finish_normal(th.b0 * m.corner_normals[3 * t] +
-                                   th.b1 * m.corner_normals[3 * t + 1] +
-                                   th.b2 * m.corner_normals[3 * t + 2]);
+        hit.normal = finish_normal(th.b0 * m.corner_normal(t, 0) + th.b1 * m.corner_normal(t, 1) +
+                                   th.b2 * m.corner_normal(t, 2));
         if (hit.normal == Vec3(0.0)) hit.normal = hit.geometric_normal;
         if (!m.corner_uvs.empty()) {
             hit.uv = th.b0 * m.corner_uvs[3 * t] + th.b1 * m.corner_uvs[3 * t + 1] +
@@ -72,7 +71,7 @@ Bounds3 UniformScene::bounds() const { return impl_->bounds; }
 std::size_t UniformScene::memory_bytes() const {
     const SubdividedMesh& m = impl_->mesh;
     return m.positions.capacity() * sizeof(Vec3) + m.triangles.capacity() * sizeof(Triangle) +
-           m.corner_normals.capacity() * sizeof(Vec3) + m.corner_uvs.capacity() * sizeof(Vec2) +
+           m.normal_bytes() + m.corner_uvs.capacity() * sizeof(Vec2) +
            m.base_face.capacity() * sizeof(std::uint32_t) + impl_->bvh.memory_bytes();
 }
 
