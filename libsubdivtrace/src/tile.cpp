@@ -43,13 +43,29 @@ bool loop_limit_normal(const Patch& p, std::uint32_t v, Vec3& normal) {
     return normal != Vec3(0.0);
 }
 
+/// The shading normals one level down already computed for a patch: a
+/// vertex's is the same for every triangle at it (where it has one sector),
+/// an edge midpoint's for both triangles on the edge (where they continue
+/// one fan), and each costs an angle per triangle around it, so the records
+/// of a level share them instead of each computing its own.
+struct ShadingMemo {
+    std::vector<Vec3> corner;
+    std::vector<std::uint8_t> corner_done;
+    std::vector<Vec3> edge;
+    std::vector<std::uint8_t> edge_done;
+
+    explicit ShadingMemo(const Patch& p)
+        : corner(p.verts.size()), corner_done(p.verts.size(), 0), edge(p.edges.size()),
+          edge_done(p.edges.size(), 0) {}
+};
+
 /// The normal a leaf shades corner c of triangle t with (NodeRecord::shading_normal):
 /// closer to the limit surface's than the level's own Gouraud normal, so a leaf
 /// that stops early does not shade as a coarse mesh would.
-Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch& next, std::uint32_t t,
-                    int c) {
-    const Vec3 own = p.corner_normal[3 * t + c];
+Vec3 compute_shading_normal(const TileContext& ctx, const Patch& p, const Patch& next,
+                            std::uint32_t t, int c) {
     const std::uint32_t v = p.tris[t].v[c];
+    const Vec3 own = p.corner_normal[3 * t + c];
     Vec3 limit;
     if (ctx.scheme == SchemeKind::loop && loop_limit_normal(p, v, limit))
         return glm::dot(limit, own) < 0.0 ? -limit : limit;
@@ -73,13 +89,25 @@ Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch& next, s
     return n == Vec3(0.0) ? own : n;
 }
 
+Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch& next, std::uint32_t t,
+                    int c, ShadingMemo& memo) {
+    const std::uint32_t v = p.tris[t].v[c];
+    // With one sector, the result depends on the vertex alone.
+    if (!p.derived[v].single_sector) return compute_shading_normal(ctx, p, next, t, c);
+    if (!memo.corner_done[v]) {
+        memo.corner[v] = compute_shading_normal(ctx, p, next, t, c);
+        memo.corner_done[v] = 1;
+    }
+    return memo.corner[v];
+}
+
 /// The normal at the midpoint of edge e of triangle t one level down
 /// (NodeRecord::edge_normal): from the edge point's ring there, the
 /// children of the edge's two triangles (one, across a crease or boundary).
 /// Loop: its limit normal (the ring is regular, valence 6); otherwise the
 /// Gouraud normal of the ring's triangles.
-Vec3 edge_midpoint_normal(const TileContext& ctx, const Patch& p, const Patch& next, std::uint32_t t,
-                         int e) {
+Vec3 compute_edge_midpoint_normal(const TileContext& ctx, const Patch& p, const Patch& next,
+                                  std::uint32_t t, int e) {
     const PatchTriangle& tri = p.tris[t];
     const std::uint32_t a = tri.v[e], b = tri.v[(e + 1) % 3];
     const PatchEdge& edge = p.edges[p.tri_edges[3 * t + e]];
@@ -119,9 +147,30 @@ Vec3 edge_midpoint_normal(const TileContext& ctx, const Patch& p, const Patch& n
     return finish_normal(sum);
 }
 
+/// compute_edge_midpoint_normal, shared by the edge's two triangles where
+/// they continue one fan (then both sides' rings are the same six points,
+/// and it is computed from the first triangle's side, whichever asks).
+Vec3 edge_midpoint_normal(const TileContext& ctx, const Patch& p, const Patch& next, std::uint32_t t,
+                          int e, ShadingMemo& memo) {
+    const std::uint32_t id = p.tri_edges[3 * t + static_cast<std::uint32_t>(e)];
+    const PatchEdge& edge = p.edges[id];
+    if (edge.curve || edge.slot_count != 2) return compute_edge_midpoint_normal(ctx, p, next, t, e);
+    const std::uint32_t s0 = edge.slot[0], s1 = edge.slot[1];
+    const auto& t0 = p.tris[s0 / 3].v;
+    const auto& t1 = p.tris[s1 / 3].v;
+    const bool one_fan = t0[s0 % 3] == t1[(s1 % 3 + 1) % 3] && t0[(s0 % 3 + 1) % 3] == t1[s1 % 3];
+    if (!one_fan) return compute_edge_midpoint_normal(ctx, p, next, t, e);
+    if (!memo.edge_done[id]) {
+        memo.edge[id] = compute_edge_midpoint_normal(ctx, p, next, s0 / 3, static_cast<int>(s0 % 3));
+        memo.edge_done[id] = 1;
+    }
+    return memo.edge[id];
+}
+
 /// Record of triangle t of patch p (level L), with `next` the patch p
 /// subdivided once (untrimmed; only read when L < max_level).
-NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next, std::uint32_t t) {
+NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next, std::uint32_t t,
+                       ShadingMemo& memo) {
     const PatchTriangle& tri = p.tris[t];
     NodeRecord rec;
     // At max_level too (the tile computes the next level's points for it):
@@ -139,12 +188,12 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
         rec.position[c] = v.position;
         rec.normal[c] = p.corner_normal[3 * t + c];
         rec.draw_position[c] = v.draw;
-        rec.shading_normal[c] = quadratic ? shading_normal(ctx, p, *next, t, c) : rec.normal[c];
+        rec.shading_normal[c] = quadratic ? shading_normal(ctx, p, *next, t, c, memo) : rec.normal[c];
         if (refinable && !d.has_displacement) stencil_cut("an edge point next to a corner");
         rec.displacement[c] = refinable ? round_up(d.displacement) : 0.0f;
     }
     for (int e = 0; e < 3; ++e)
-        rec.edge_normal[e] = glm::vec3(quadratic ? edge_midpoint_normal(ctx, p, *next, t, e) : Vec3(0.0));
+        rec.edge_normal[e] = glm::vec3(quadratic ? edge_midpoint_normal(ctx, p, *next, t, e, memo) : Vec3(0.0));
     rec.linear_shading = !quadratic;
 
     rec.shell = descendant_shell(p, next, t, rec, ctx.scheme, ctx.shell_kind, ctx.max_level);
@@ -224,11 +273,12 @@ void Tile::build_level(int j) {
     if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.position.size());
     out.shells.resize(n * n);
     std::vector<Shell> shells(n * n);
+    ShadingMemo memo(q);
     for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
         const PatchTriangle& tri = q.tris[t];
         if (!in_tile(tri.id)) continue;
         for (std::uint32_t v : tri.v) q.ensure_normal(ctx_->topo, ctx_->scheme, v);
-        const NodeRecord rec = make_record(*ctx_, q, &next, t);
+        const NodeRecord rec = make_record(*ctx_, q, &next, t, memo);
         shells[index_in_level(tri.id)] = rec.shell;
         const auto grid = node_corner_grid(tri.id);
         for (int c = 0; c < 3; ++c) {
@@ -385,11 +435,12 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
         // The next level's positions only: the shells read its edge points
         // (and Loop's moved corners), never its triangles.
         Patch next = p.subdivide(ctx.topo, ctx.scheme, false);
+        ShadingMemo memo(p);
         for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
             const std::uint32_t f = p.tris[t].id.face;
             if (f < first || f >= first + region.size()) continue;  // border
             for (std::uint32_t v : p.tris[t].v) p.ensure_normal(ctx.topo, ctx.scheme, v);
-            const NodeRecord rec = make_record(ctx, p, &next, t);
+            const NodeRecord rec = make_record(ctx, p, &next, t, memo);
             shells_[f] = CompactShell::from(rec.shell, rec.position[0]);
             linear_shading_ = rec.linear_shading;  // the same for every level-0 record
             for (int e = 0; e < 3; ++e) edge_normal_[3 * f + e] = rec.edge_normal[e];
