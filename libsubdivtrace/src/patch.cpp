@@ -66,8 +66,6 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     ring_curve.clear();
     corner_normal.assign(3 * tris.size(), Vec3(0.0));
     corner_sector.assign(3 * tris.size(), 0);
-    corner_weight.resize(3 * tris.size());
-    weight_ready.assign(tris.size(), 0);
     for (std::uint32_t v = 0; v < n; ++v)
         if (derived[v].has_ring) finish_vertex(topo, scheme, v);
     if (scheme != SchemeKind::loop) {
@@ -218,8 +216,6 @@ void Patch::drop_derived() {
     derived = {};
     corner_normal = {};
     corner_sector = {};
-    corner_weight = {};
-    weight_ready = {};
     rings = {};
     ring_nbrs = {};
     ring_curve = {};
@@ -235,7 +231,6 @@ std::size_t Patch::owned_bytes() const {
     return verts.capacity() * sizeof(PatchVertex) + tris.capacity() * sizeof(PatchTriangle) +
            derived.capacity() * sizeof(VertexDerived) + corner_normal.capacity() * sizeof(Vec3) +
            corner_sector.capacity() * sizeof(std::uint16_t) +
-           corner_weight.capacity() * sizeof(Vec3) + weight_ready.capacity() +
            rings.capacity() * sizeof(Ring) + ring_nbrs.capacity() * sizeof(std::uint32_t) +
            ring_curve.capacity() +
            (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +
@@ -398,18 +393,9 @@ void Patch::ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint
     for (std::size_t k = 0; k < pairs.size(); ++k) {
         const SlotPair& pr = pairs[k];
         const Vec3 g = given ? topo.given_normal(tris[pr.slot / 3].id.face, pv.key.a) : Vec3(0.0);
-        if (g != Vec3(0.0)) {
-            sums[corner_sector[pr.slot]] += g;
-            continue;
-        }
-        const std::uint32_t t = pr.slot / 3;
-        if (!weight_ready[t]) {
-            const auto& c = tris[t].v;
-            angle_weighted_normals(verts[c[0]].position, verts[c[1]].position, verts[c[2]].position,
-                                   &corner_weight[3 * t]);
-            weight_ready[t] = 1;
-        }
-        sums[corner_sector[pr.slot]] += corner_weight[pr.slot];
+        sums[corner_sector[pr.slot]] += g != Vec3(0.0) ? g
+                                          : angle_weighted_normal(pv.position, verts[pr.from].position,
+                                                                  verts[pr.to].position);
     }
     for (Vec3& sum : sums) sum = finish_normal(sum);
     for (const SlotPair& pr : pairs) corner_normal[pr.slot] = sums[corner_sector[pr.slot]];

@@ -87,12 +87,6 @@ public:
     /// vertex has one), after finish(). A whole ring has fewer than 65535
     /// triangles (true_ring saturates there), so 16 bits hold every label.
     std::vector<std::uint16_t> corner_sector;
-    /// Each corner's angle-weighted face normal, computed for a triangle's
-    /// three corners at once when one of them is first summed (ensure_normal;
-    /// a triangle's corner order is its node's, so every patch gets the same
-    /// bits), and whether its triangle's are computed yet.
-    std::vector<Vec3> corner_weight;
-    std::vector<std::uint8_t> weight_ready;
 
     /// Ordered (canonical) ring of vertex v: valid after finish() for
     /// vertices with has_ring.
