@@ -101,6 +101,16 @@ Vec3 shading_normal(const TileContext& ctx, const Patch& p, const Patch& next, s
     return memo.corner[v];
 }
 
+/// Whether the edge's two triangles continue one fan across it: neither a
+/// curve nor a flipped neighbour (it runs the edge the other way).
+bool continues_one_fan(const Patch& p, const PatchEdge& edge) {
+    if (edge.curve || edge.slot_count != 2) return false;
+    const std::uint32_t s0 = edge.slot[0], s1 = edge.slot[1];
+    const auto& t0 = p.tris[s0 / 3].v;
+    const auto& t1 = p.tris[s1 / 3].v;
+    return t0[s0 % 3] == t1[(s1 % 3 + 1) % 3] && t0[(s0 % 3 + 1) % 3] == t1[s1 % 3];
+}
+
 /// The normal at the midpoint of edge e of triangle t one level down
 /// (NodeRecord::edge_normal): from the edge point's ring there, the
 /// children of the edge's two triangles (one, across a crease or boundary).
@@ -125,16 +135,12 @@ Vec3 compute_edge_midpoint_normal(const TileContext& ctx, const Patch& p, const 
     ring[count++] = point(3 * t + (e + 1) % 3);
     ring[count++] = point(3 * t + (e + 2) % 3);
     ring[count++] = next.verts[a].position;
-    bool closed = false;
-    if (!edge.curve && edge.slot_count == 2) {
+    const bool closed = continues_one_fan(p, edge);
+    if (closed) {
         const std::uint32_t other = edge.slot[0] == 3 * t + static_cast<std::uint32_t>(e) ? edge.slot[1] : edge.slot[0];
         const std::uint32_t t2 = other / 3, e2 = other % 3;
-        // Only a neighbour wound the same way continues the fan.
-        if (p.tris[t2].v[e2] == b && p.tris[t2].v[(e2 + 1) % 3] == a) {
-            ring[count++] = point(3 * t2 + (e2 + 1) % 3);
-            ring[count++] = point(3 * t2 + (e2 + 2) % 3);
-            closed = true;
-        }
+        ring[count++] = point(3 * t2 + (e2 + 1) % 3);
+        ring[count++] = point(3 * t2 + (e2 + 2) % 3);
     }
     if (closed && ctx.scheme == SchemeKind::loop) {
         // The edge point is a regular vertex of level L+1 (valence 6).
@@ -154,12 +160,8 @@ Vec3 edge_midpoint_normal(const TileContext& ctx, const Patch& p, const Patch& n
                           int e, ShadingMemo& memo) {
     const std::uint32_t id = p.tri_edges[3 * t + static_cast<std::uint32_t>(e)];
     const PatchEdge& edge = p.edges[id];
-    if (edge.curve || edge.slot_count != 2) return compute_edge_midpoint_normal(ctx, p, next, t, e);
-    const std::uint32_t s0 = edge.slot[0], s1 = edge.slot[1];
-    const auto& t0 = p.tris[s0 / 3].v;
-    const auto& t1 = p.tris[s1 / 3].v;
-    const bool one_fan = t0[s0 % 3] == t1[(s1 % 3 + 1) % 3] && t0[(s0 % 3 + 1) % 3] == t1[s1 % 3];
-    if (!one_fan) return compute_edge_midpoint_normal(ctx, p, next, t, e);
+    if (!continues_one_fan(p, edge)) return compute_edge_midpoint_normal(ctx, p, next, t, e);
+    const std::uint32_t s0 = edge.slot[0];
     if (!memo.edge_done[id]) {
         memo.edge[id] = compute_edge_midpoint_normal(ctx, p, next, s0 / 3, static_cast<int>(s0 % 3));
         memo.edge_done[id] = 1;
