@@ -377,16 +377,6 @@ std::vector<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& positio
     return out;
 }
 
-std::vector<Vec3> smooth_corner_normals(const std::vector<Vec3>& positions,
-                                        const std::vector<Triangle>& triangles,
-                                        const std::vector<Vec3>& given) {
-    std::vector<Vec3> out = weighted_corner_normals(positions, triangles, given);
-    const std::vector<Vec3> sums = vertex_sums(positions.size(), triangles, out);
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-        for (int c = 0; c < 3; ++c) out[3 * t + c] = sums[triangles[t][c]];
-    return out;
-}
-
 std::vector<Vec3> smooth_vertex_normals(const std::vector<Vec3>& positions,
                                         const std::vector<Triangle>& triangles) {
     std::vector<Vec3> sums(positions.size(), Vec3(0.0));

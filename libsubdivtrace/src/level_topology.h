@@ -115,13 +115,9 @@ private:
     std::vector<std::uint8_t> single_sector_;
 };
 
-/// LevelTopology::sector_normals for a level without creases (every vertex
-/// one sector), without building the topology: the same bits.
-std::vector<Vec3> smooth_corner_normals(const std::vector<Vec3>& positions,
-                                        const std::vector<Triangle>& triangles,
-                                        const std::vector<Vec3>& given = {});
-/// The same once per vertex (every corner of a vertex has it), without a
-/// per-corner array.
+/// LevelTopology::sector_normals for a level without creases or given
+/// normals, once per vertex (every corner of a vertex has it) and without
+/// building the topology or a per-corner array: the same bits.
 std::vector<Vec3> smooth_vertex_normals(const std::vector<Vec3>& positions,
                                         const std::vector<Triangle>& triangles);
 

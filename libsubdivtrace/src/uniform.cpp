@@ -37,24 +37,26 @@ std::vector<Vec3> given_corner_normals(const Mesh& base, const std::vector<Trian
     return given;
 }
 
-/// The scheme's normals at each corner of one level; `topo` is that level's
-/// (it may be null where the level has no creases).
-std::vector<Vec3> scheme_normals(const Mesh& base, SchemeKind scheme, const LevelTopology* topo,
+/// Whether the mesh's given normals are the scheme's at this level.
+bool given_at_level(const Mesh& base, SchemeKind scheme, int level, bool given_every_level) {
+    return scheme == SchemeKind::normal && base.has_normals() && (level == 0 || given_every_level);
+}
+
+/// The scheme's normals at each corner of one level.
+std::vector<Vec3> scheme_normals(const Mesh& base, SchemeKind scheme, const LevelTopology& topo,
                                  const std::vector<Vec3>& positions,
                                  const std::vector<Triangle>& triangles, int level,
                                  bool given_every_level) {
-    const bool given = scheme == SchemeKind::normal && base.has_normals() &&
-                       (level == 0 || given_every_level);
-    const std::vector<Vec3> given_normals =
-        given ? given_corner_normals(base, triangles, level) : std::vector<Vec3>{};
-    return topo != nullptr ? topo->sector_normals(positions, triangles, given_normals)
-                           : smooth_corner_normals(positions, triangles, given_normals);
+    return topo.sector_normals(positions, triangles,
+                               given_at_level(base, scheme, level, given_every_level)
+                                   ? given_corner_normals(base, triangles, level)
+                                   : std::vector<Vec3>{});
 }
 
 /// One level of subdivision: positions of old vertices, then edge points,
 /// then the triangles rewritten (children 4t..4t+3, see uniform.h) and `topo`
 /// replaced by theirs (or reset where `child_topology` is false: the last
-/// level needs one only for creases' sectors).
+/// level needs one only for creases' sectors and given normals).
 void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_every_level,
                     std::vector<Vec3>& positions, std::vector<Triangle>& triangles,
                     LevelState& state, std::optional<LevelTopology>& topo_slot,
@@ -62,7 +64,7 @@ void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_e
     const LevelTopology& topo = *topo_slot;
     const std::vector<Vec3> normals =
         scheme == SchemeKind::normal
-            ? scheme_normals(base, scheme, &topo, positions, triangles, level, given_every_level)
+            ? scheme_normals(base, scheme, topo, positions, triangles, level, given_every_level)
             : std::vector<Vec3>{};
 
     // Positions of the old vertices (Loop moves them; interpolating schemes keep them).
@@ -216,23 +218,23 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind scheme, in
     if (std::all_of(state.creases.begin(), state.creases.end(), [](std::uint8_t m) { return m == 0; }))
         state.creases.clear();
     state.corner_uvs = mesh.corner_uvs;
+    // The last level's normals need its topology only for sectors and given normals.
+    const bool given_last = given_at_level(mesh, scheme, levels, given_every_level);
     std::optional<LevelTopology> topo(std::in_place, out.positions, out.triangles, state.creases);
     for (int k = 0; k < levels; ++k) {
         const bool last = k + 1 == levels;
         subdivide_once(mesh, scheme, k, given_every_level, out.positions, out.triangles, state,
-                       topo, !last || !state.creases.empty());
+                       topo, !last || !state.creases.empty() || given_last);
     }
     out.corner_uvs = std::move(state.corner_uvs);
     out.crease_masks = std::move(state.creases);
-    const bool given = scheme == SchemeKind::normal && mesh.has_normals() &&
-                       (levels == 0 || given_every_level);
-    if (!topo && !given) {
+    if (!topo) {
         // No crease and no given normal at the last level: one normal per
         // vertex, summed directly (no per-corner array).
         out.vertex_normals = smooth_vertex_normals(out.positions, out.triangles);
     } else {
-        const std::vector<Vec3> corners = scheme_normals(
-            mesh, scheme, topo ? &*topo : nullptr, out.positions, out.triangles, levels, given_every_level);
+        const std::vector<Vec3> corners =
+            scheme_normals(mesh, scheme, *topo, out.positions, out.triangles, levels, given_every_level);
         // A vertex's first corner (in slot order) names its normal; the
         // corners that differ are kept apart.
         out.vertex_normals.assign(out.positions.size(), Vec3(0.0));
