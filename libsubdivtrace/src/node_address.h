@@ -64,7 +64,23 @@ inline bool key_less(const VertexKey& x, const VertexKey& y) {
 }
 
 /// The node's ancestor at `level` (the node itself at its own level).
-NodeId ancestor_at(const NodeId& id, int level);
+inline NodeId ancestor_at(const NodeId& id, int level) {
+    if (id.level <= level) return id;
+    // The ancestor's cell is the grid position shifted down; within a cell
+    // of side 2^s, a descendant lies in the "down" half when its local
+    // coordinates plus its own down flag reach 2^s (child_of's layout: an up
+    // parent's children have at most one odd coordinate or down flag among
+    // (i, j, down), a down parent's two or three; this is that, s levels at once).
+    const int s = id.level - level;
+    const std::uint32_t mask = (std::uint32_t{1} << s) - 1;
+    NodeId a;
+    a.face = id.face;
+    a.level = static_cast<std::uint8_t>(level);
+    a.i = id.i >> s;
+    a.j = id.j >> s;
+    a.down = (id.i & mask) + (id.j & mask) + (id.down ? 1u : 0u) > mask;
+    return a;
+}
 
 /// The grid triangles of resolution n that have grid point (i, j) as a
 /// corner, each rotated so that point comes first (counter-clockwise): calls

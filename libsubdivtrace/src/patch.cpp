@@ -212,17 +212,27 @@ void Patch::fill_vertex_ring(std::uint32_t v, VertexRing& ring) const {
         for (int k = 0; k < 2; ++k) ring.curve[k] = verts[d.curve[k]].position;
 }
 
+namespace {
+
+/// Empties `v` and returns its memory (`v = {}` would keep the capacity).
+template <class T>
+void release(std::vector<T>& v) {
+    std::vector<T>().swap(v);
+}
+
+}  // namespace
+
 void Patch::drop_derived() {
-    derived = {};
-    corner_normal = {};
-    corner_sector = {};
-    rings = {};
-    ring_nbrs = {};
-    ring_curve = {};
-    incident_offsets = {};
-    incident_slots = {};
-    edges = {};
-    tri_edges = {};
+    release(derived);
+    release(corner_normal);
+    release(corner_sector);
+    release(rings);
+    release(ring_nbrs);
+    release(ring_curve);
+    release(incident_offsets);
+    release(incident_slots);
+    release(edges);
+    release(tri_edges);
     verts.shrink_to_fit();
     tris.shrink_to_fit();
 }
@@ -402,16 +412,31 @@ void Patch::ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint
     dv.has_normal = true;
 }
 
-Patch Patch::subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_triangles) {
+Patch Patch::next_positions(const BaseTopology& topo, SchemeKind scheme,
+                            const std::vector<bool>* needed) {
     Patch next;
-    if (with_triangles) {
-        next = subdivide_topology(topo);
-    } else {
-        next.level = level + 1;
-        next.verts.resize(verts.size() + edges.size());
-    }
-    compute_positions(topo, scheme, next, nullptr);
+    next.level = level + 1;
+    next.verts.resize(verts.size() + edges.size());
+    compute_positions(topo, scheme, next, needed);
     return next;
+}
+
+std::vector<bool> Patch::points_around(const std::vector<bool>& region) const {
+    std::vector<bool> needed(verts.size() + edges.size(), false);
+    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+        if (!region[t]) continue;
+        for (std::uint32_t v : tris[t].v) {
+            if (needed[v]) continue;
+            needed[v] = true;
+            for (std::uint32_t k = incident_offsets[v]; k < incident_offsets[v + 1]; ++k) {
+                const std::uint32_t slot = incident_slots[k];
+                const std::uint32_t first = slot - slot % 3;
+                needed[verts.size() + tri_edges[slot]] = true;                        // v -> next corner
+                needed[verts.size() + tri_edges[first + (slot % 3 + 2) % 3]] = true;  // previous -> v
+            }
+        }
+    }
+    return needed;
 }
 
 Patch Patch::subdivide_topology(const BaseTopology& topo) const {

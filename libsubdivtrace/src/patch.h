@@ -41,7 +41,7 @@ struct PatchVertex {
     std::uint16_t true_ring = 0;
 };
 
-/// What finish() and subdivide() derive of a vertex at one level. Its normals
+/// What finish() and the next level's positions derive of a vertex at one level. Its normals
 /// are per corner (Patch::corner_normal): one per sector between creases.
 struct VertexDerived {
     /// Largest distance of an edge point of the next level from its edge's
@@ -126,17 +126,24 @@ public:
     /// A new patch holding only `src`'s triangles flagged in `keep`.
     static Patch copy_of(const Patch& src, const std::vector<bool>& keep);
 
-    /// The per-vertex displacement of the next level, then the next level's
-    /// patch (every triangle split 1-to-4). Values whose stencil is
-    /// incomplete are marked invalid. Call after finish().
-    /// With `with_triangles` false, only the next level's vertex positions
-    /// (no triangles, no keys): what shells read.
-    Patch subdivide(const BaseTopology& topo, SchemeKind scheme, bool with_triangles = true);
+    /// The per-vertex displacement of the next level, and the next level's
+    /// vertex positions alone (no triangles, no keys; index v for old vertex
+    /// v, vertices + e for edge e's point): what records and shells read.
+    /// With `needed` (indexed the same way), only those points are computed,
+    /// and a vertex's displacement is then whole only where all its edges'
+    /// points are needed. Values whose stencil is incomplete are marked
+    /// invalid. Call after finish().
+    Patch next_positions(const BaseTopology& topo, SchemeKind scheme,
+                         const std::vector<bool>* needed = nullptr);
+    /// What next_positions() needs for the records of the triangles flagged
+    /// in `region`: their vertices (moved by Loop) and every edge point at them.
+    std::vector<bool> points_around(const std::vector<bool>& region) const;
 
-    /// As subdivide(), but only the points of the next level's triangles in
-    /// its band(in_region) are computed (the rest of the border is cut next);
-    /// `kept` receives that band, for keep_only() once the caller is done
-    /// with the untrimmed indices.
+    /// The per-vertex displacement of the next level, then the next level's
+    /// patch (every triangle split 1-to-4), with only the points of its
+    /// triangles in band(in_region) computed (the rest of the border is cut
+    /// next); `kept` receives that band, for keep_only() once the caller is
+    /// done with the untrimmed indices. Call after finish().
     template <class Pred>
     Patch subdivide_band(const BaseTopology& topo, SchemeKind scheme, Pred in_region,
                          std::vector<bool>& kept) {
@@ -159,7 +166,7 @@ public:
     /// the first reader, as most of a patch's border never needs them.
     void ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
 
-    /// Frees rings and edges (finish() and subdivide() rebuild them).
+    /// Frees rings and edges (finish() rebuilds them).
     void drop_derived();
     std::size_t owned_bytes() const;
 

@@ -248,23 +248,33 @@ bool Tile::in_tile(const NodeId& id) const {
     return id.face == root_.face && id.level > root_.level && ancestor_at(id, root_.level) == root_;
 }
 
-void Tile::build_level(int j) {
-    // frontier_ is level root.level + j, already cut to the tile's triangles
-    // and their border: the records of that level need the next level's edge
-    // points, which also become the next frontier.
+void Tile::advance_frontier() {
+    // The frontier's triangles split, cut to the tile's triangles and their
+    // border: the next level's start, or after the deepest level where
+    // child tiles start (its positions are recomputed here from scratch, as
+    // only a tile that goes deeper pays for that level's topology).
     Patch& q = frontier_;
     q.finish(ctx_->topo, ctx_->scheme);
-    const int level = root_.level + j;
-    Patch next;
     std::vector<bool> kept;
-    const auto in_this_tile = [&](const NodeId& id) { return in_tile(id); };
-    if (level < ctx_->max_level) {
-        next = q.subdivide_band(ctx_->topo, ctx_->scheme, in_this_tile, kept);
-    } else {
-        // The next level's points only, for the corners' displacement: what
-        // tells a leaf at max_level that the rule would have refined it.
-        next = q.subdivide(ctx_->topo, ctx_->scheme, false);
-    }
+    Patch next = q.subdivide_band(ctx_->topo, ctx_->scheme, [&](const NodeId& id) { return in_tile(id); }, kept);
+    next.keep_only(kept);
+    frontier_ = std::move(next);
+}
+
+void Tile::build_level(int j) {
+    // frontier_ is level root.level + j - 1 for j > 1 (its records built):
+    // split it first. Then it is level root.level + j, cut to the tile's
+    // triangles and their border; the records of that level read the next
+    // level's points around them, computed here and dropped after.
+    if (j > 1) advance_frontier();
+    Patch& q = frontier_;
+    q.finish(ctx_->topo, ctx_->scheme);
+    std::vector<bool> in_this_tile(q.tris.size());
+    for (std::size_t t = 0; t < q.tris.size(); ++t) in_this_tile[t] = in_tile(q.tris[t].id);
+    // At max_level too: the corners' displacement tells a leaf there that
+    // the rule would have refined it.
+    const std::vector<bool> needed = q.points_around(in_this_tile);
+    const Patch next = q.next_positions(ctx_->topo, ctx_->scheme, &needed);
     TileLevel& out = levels_[j - 1];
     const std::size_t n = std::size_t{1} << j;
     out.position.resize((n + 1) * (n + 2) / 2);
@@ -277,8 +287,8 @@ void Tile::build_level(int j) {
     std::vector<Shell> shells(n * n);
     ShadingMemo memo(q);
     for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
+        if (!in_this_tile[t]) continue;
         const PatchTriangle& tri = q.tris[t];
-        if (!in_tile(tri.id)) continue;
         for (std::uint32_t v : tri.v) q.ensure_normal(ctx_->topo, ctx_->scheme, v);
         const NodeRecord rec = make_record(*ctx_, q, &next, t, memo);
         shells[index_in_level(tri.id)] = rec.shell;
@@ -297,15 +307,8 @@ void Tile::build_level(int j) {
     // Shells relative to a point of the tile: its first grid point at level 1.
     if (j == 1) origin_ = out.position[0];
     for (std::size_t k = 0; k < shells.size(); ++k) out.shells[k] = CompactShell::from(shells[k], origin_);
-    // Kept, cut to the tile's own triangles and their border: the next
-    // level's start, and after the deepest level where child tiles start.
-    if (level < ctx_->max_level) {
-        next.keep_only(kept);
-        next.drop_derived();
-        frontier_ = std::move(next);
-    } else {
-        frontier_ = Patch();
-    }
+    // Waits, without rings and edges, for the next level or child tiles.
+    q.drop_derived();
     ctx_->records_built->fetch_add(out.shells.size(), std::memory_order_relaxed);
     ready_.store(j, std::memory_order_release);
 }
@@ -397,7 +400,15 @@ void Tile::ensure_level(int j) const {
 }
 
 const Patch& Tile::last_patch() const {
-    if (ready_.load(std::memory_order_acquire) < depth_) ensure_level(depth_);
+    if (last_ready_.load(std::memory_order_acquire)) return frontier_;
+    ensure_level(depth_);
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!last_ready_.load(std::memory_order_relaxed)) {
+        auto* self = const_cast<Tile*>(this);
+        if (root_.level + depth_ < ctx_->max_level) self->advance_frontier();
+        else self->frontier_ = Patch();  // no tile starts below max_level
+        last_ready_.store(true, std::memory_order_release);
+    }
     return frontier_;
 }
 
@@ -436,11 +447,15 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
         p.finish(ctx.topo, ctx.scheme);
         // The next level's positions only: the shells read its edge points
         // (and Loop's moved corners), never its triangles.
-        Patch next = p.subdivide(ctx.topo, ctx.scheme, false);
+        std::vector<bool> in_chunk(p.tris.size());
+        for (std::size_t t = 0; t < p.tris.size(); ++t)
+            in_chunk[t] = p.tris[t].id.face >= first && p.tris[t].id.face < first + region.size();
+        const std::vector<bool> needed = p.points_around(in_chunk);
+        const Patch next = p.next_positions(ctx.topo, ctx.scheme, &needed);
         ShadingMemo memo(p);
         for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
+            if (!in_chunk[t]) continue;  // border
             const std::uint32_t f = p.tris[t].id.face;
-            if (f < first || f >= first + region.size()) continue;  // border
             for (std::uint32_t v : p.tris[t].v) p.ensure_normal(ctx.topo, ctx.scheme, v);
             const NodeRecord rec = make_record(ctx, p, &next, t, memo);
             shells_[f] = CompactShell::from(rec.shell, rec.position[0]);

@@ -50,7 +50,8 @@ struct TileLevel {
 
 /// The records of a node's descendants, levels root.level+1 .. root.level+depth.
 /// Levels are built on first use (the first at construction): a ray that
-/// stops one level below the root pays for that level only.
+/// stops one level below the root pays for that level only (and the next
+/// level's points around it, not that level's topology).
 class Tile {
 public:
     /// `parent_patch`: the last patch of the tile whose deepest level holds
@@ -92,15 +93,21 @@ private:
     NodeRecord assemble(const TileLevel& level, const NodeId& id) const;
     void build_level(int j);
     void ensure_level(int j) const;
+    /// Splits the frontier (the last built level) into the next level's
+    /// tile triangles and their border.
+    void advance_frontier();
 
     const TileContext* ctx_;
     NodeId root_;
     int depth_ = 0;
     std::vector<TileLevel> levels_;
     Vec3 origin_{0.0};  ///< shells are stored relative to it
+    /// The deepest level built (without rings and edges), or once
+    /// last_patch() was asked for, the level below the tile.
     Patch frontier_;
     mutable std::mutex mutex_;
     mutable std::atomic<int> ready_{0};
+    mutable std::atomic<bool> last_ready_{false};
 };
 
 /// Root of the tile that holds node `id` (level >= 1).

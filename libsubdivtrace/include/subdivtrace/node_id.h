@@ -35,13 +35,42 @@ struct ChildCorner {
     bool is_edge;
     std::uint8_t index;
 };
-const std::array<ChildCorner, 3>& child_corners(bool parent_down, int child);
+inline const std::array<ChildCorner, 3>& child_corners(bool parent_down, int child) {
+    // Derived from the grid coordinates in child_of (see uniform.h for the order).
+    static constexpr std::array<std::array<ChildCorner, 3>, 4> up = {{
+        {{{false, 0}, {true, 0}, {true, 2}}},
+        {{{true, 0}, {false, 1}, {true, 1}}},
+        {{{true, 2}, {true, 1}, {false, 2}}},
+        {{{true, 0}, {true, 1}, {true, 2}}},
+    }};
+    static constexpr std::array<std::array<ChildCorner, 3>, 4> down = {{
+        {{{false, 0}, {true, 0}, {true, 2}}},
+        {{{true, 0}, {false, 1}, {true, 1}}},
+        {{{true, 2}, {true, 1}, {false, 2}}},
+        {{{true, 2}, {true, 0}, {true, 1}}},
+    }};
+    return parent_down ? down[child] : up[child];
+}
 
 /// Child c (0..3) of a node; children of a node cover it exactly, in the
-/// order subdivide_uniform uses (uniform.h).
-NodeId child_of(const NodeId& node, int child);
+/// order subdivide_uniform uses (uniform.h). (Inline, as the arithmetic
+/// below: the tracer asks for children millions of times per frame.)
+inline NodeId child_of(const NodeId& node, int child) {
+    static constexpr std::uint32_t up_di[4] = {0, 1, 0, 0}, up_dj[4] = {0, 0, 1, 0};
+    static constexpr std::uint32_t down_di[4] = {1, 1, 0, 1}, down_dj[4] = {0, 1, 1, 1};
+    NodeId c;
+    c.face = node.face;
+    c.level = static_cast<std::uint8_t>(node.level + 1);
+    c.down = node.down ? child != 3 : child == 3;
+    c.i = 2 * node.i + (node.down ? down_di : up_di)[child];
+    c.j = 2 * node.j + (node.down ? down_dj : up_dj)[child];
+    return c;
+}
 
 /// Grid coordinates (i, j) of a node's corners at its level.
-std::array<std::array<std::uint32_t, 2>, 3> node_corner_grid(const NodeId& node);
+inline std::array<std::array<std::uint32_t, 2>, 3> node_corner_grid(const NodeId& n) {
+    if (!n.down) return {{{n.i, n.j}, {n.i + 1, n.j}, {n.i, n.j + 1}}};
+    return {{{n.i + 1, n.j}, {n.i + 1, n.j + 1}, {n.i, n.j + 1}}};
+}
 
 }  // namespace subdivtrace
