@@ -82,19 +82,19 @@ void merge_crossings(std::vector<CrossingPart>& parts, std::vector<Hit>& hits) {
         std::size_t end = first + 1;
         while (end < parts.size() && !feature_less(parts[first], parts[end])) ++end;
         double turns = 0.0;
-        double t = hits[parts[first].hit].t;
-        for (std::size_t k = first; k < end; ++k) {
-            turns += parts[k].turns;
-            t = std::min(t, hits[parts[k].hit].t);
-        }
-        // Report the hit of a triangle facing the way the crossing goes.
+        for (std::size_t k = first; k < end; ++k) turns += parts[k].turns;
+        // Report the hit of a triangle facing the way the crossing goes, and
+        // place the feature along the ray at that hit's t: its parts meet one
+        // point, but their t values differ by roundings, and ordering by
+        // another part's t let a neighbour's hit fall between (the list came
+        // out of order by an ulp; found by the tracer's fuzz harness).
         std::size_t pick = first;
         for (std::size_t k = first; k < end; ++k)
             if ((parts[k].turns > 0.0) == (turns > 0.0)) {
                 pick = k;
                 break;
             }
-        features.push_back({t, turns, parts[pick].hit});
+        features.push_back({hits[parts[pick].hit].t, turns, parts[pick].hit});
         first = end;
     }
     std::stable_sort(features.begin(), features.end(),
