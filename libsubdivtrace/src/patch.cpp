@@ -529,7 +529,12 @@ void Patch::compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch
 Patch Patch::copy_of(const Patch& src, const std::vector<bool>& keep) {
     Patch out;
     out.level = src.level;
-    std::vector<std::uint32_t> remap(src.verts.size(), UINT32_MAX);
+    thread_local std::vector<std::uint32_t> remap;
+    remap.assign(src.verts.size(), UINT32_MAX);
+    const std::size_t kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), true));
+    out.tris.reserve(kept);
+    // A patch has fewer vertices than triangles, but for a sliver of a border.
+    out.verts.reserve(std::min(src.verts.size(), kept + 8));
     for (std::size_t t = 0; t < src.tris.size(); ++t) {
         if (!keep[t]) continue;
         PatchTriangle tri = src.tris[t];

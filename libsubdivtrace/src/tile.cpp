@@ -202,6 +202,18 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
     return rec;
 }
 
+/// Where TileLevel::edge_normal keeps the edge between grid points p and q:
+/// its direction (along x, along y, the diagonal; the same in the root's
+/// local frame, as a "down" root's point reflection keeps each direction) and
+/// whether p is its first point (the smaller j, or on a row the smaller i).
+struct GridEdge {
+    int direction;
+    bool p_first;
+};
+GridEdge grid_edge(const std::array<std::uint32_t, 2>& p, const std::array<std::uint32_t, 2>& q) {
+    return {p[1] == q[1] ? 0 : p[0] == q[0] ? 1 : 2, p[1] != q[1] ? p[1] < q[1] : p[0] < q[0]};
+}
+
 /// Triangle index of local grid position (x, y) among the n^2 triangles of
 /// resolution n: "up" triangles row by row, then "down" ones.
 std::size_t local_triangle_index(std::uint32_t n, std::uint32_t x, std::uint32_t y, bool down) {
@@ -320,13 +332,9 @@ std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, int e) const {
 
 std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, const GridPoint& p,
                                             const GridPoint& q) const {
-    // Grid coordinates: the direction is the same in the root's local frame
-    // (a "down" root's is point-reflected, which keeps each direction).
-    const int direction = p[1] == q[1] ? 0 : p[0] == q[0] ? 1 : 2;
-    // The first point: the smaller j, or on a row the smaller i.
-    const bool p_first = p[1] != q[1] ? p[1] < q[1] : p[0] < q[0];
-    const GridPoint& first = p_first ? p : q;
-    return {direction, vertex_index(id, first[0], first[1])};
+    const GridEdge e = grid_edge(p, q);
+    const GridPoint& first = e.p_first ? p : q;
+    return {e.direction, vertex_index(id, first[0], first[1])};
 }
 
 std::size_t Tile::vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const {
@@ -359,8 +367,10 @@ void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const 
         const auto& map = child_corners(parent.down, c);
         NodeRecord& rec = out[c];
         const GridPoint* at[3];
+        std::size_t index[3];
         for (int k = 0; k < 3; ++k) {
             const std::size_t v = map[k].is_edge ? mid[map[k].index] : corner[map[k].index];
+            index[k] = v;
             at[k] = map[k].is_edge ? &mid_grid[map[k].index] : &corner_grid[map[k].index];
             rec.position[k] = level.position[v];
             rec.normal[k] = level.normal[v];
@@ -369,8 +379,10 @@ void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const 
             rec.draw_position[k] = level.draw.empty() ? level.position[v] : level.draw[v];
         }
         for (int k = 0; k < 3; ++k) {
-            const auto [direction, slot] = edge_slot(child, *at[k], *at[(k + 1) % 3]);
-            rec.edge_normal[k] = level.edge_normal[direction][slot];
+            // As edge_slot(), with both ends' indices already known.
+            const int l = (k + 1) % 3;
+            const GridEdge e = grid_edge(*at[k], *at[l]);
+            rec.edge_normal[k] = level.edge_normal[e.direction][e.p_first ? index[k] : index[l]];
         }
         rec.shell = level.shells[index_in_level(child)].expand(origin_);
     }
