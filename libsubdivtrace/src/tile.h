@@ -77,7 +77,9 @@ public:
     /// first. Empty at max_level.
     const Patch& last_patch() const;
 
-    /// What the cache charges for the tile: its size with every level built.
+    /// What the cache charges for the tile: its size with every level built,
+    /// the patch it keeps counted as twice the first level's (the patch
+    /// grows with the levels; most tiles never build past their first).
     std::size_t bytes_when_complete() const;
 
 private:
