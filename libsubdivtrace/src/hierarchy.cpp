@@ -2,7 +2,6 @@
 
 #include <array>
 #include <atomic>
-#include <chrono>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -105,7 +104,7 @@ public:
     HierarchyImpl(const Mesh& mesh, SchemeKind scheme, int max_level,
                   std::shared_ptr<TileCache> shared_cache, ShellKind shell_kind)
         : topo(mesh),
-          context{topo, scheme, shell_kind, max_level, &nodes_built},
+          context{topo, scheme, shell_kind, max_level, &nodes_built, &tile_build_ns},
           roots(context),
           cache(std::move(shared_cache)),
           tiles(cache->impl()) {
@@ -143,14 +142,8 @@ public:
             // in turn if it was evicted: values never depend on the cache).
             std::shared_ptr<const CachedTile> parent;
             if (root.level > 0) parent = tile(detail::parent_tile_root(root));
-            const auto start = std::chrono::steady_clock::now();
             auto built = std::make_shared<const CachedTile>(
                 context, root, parent ? &parent->tile.last_patch() : nullptr, front_tally);
-            tile_build_ns.fetch_add(
-                static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                               std::chrono::steady_clock::now() - start)
-                                               .count()),
-                std::memory_order_relaxed);
             return std::make_pair(std::shared_ptr<const CachedTile>(built), built->bytes);
         });
     }
@@ -159,7 +152,8 @@ public:
     const std::uint64_t id = g_next_hierarchy_id.fetch_add(1);
 
     std::atomic<std::uint64_t> nodes_built{0};
-    /// Time spent constructing tiles (not waiting for their parents), summed over threads.
+    /// Time spent building tiles, their lazy levels and the frontiers child
+    /// tiles start from (not waiting for another thread), summed over threads.
     std::atomic<std::uint64_t> tile_build_ns{0};
     detail::BaseTopology topo;
     detail::TileContext context;

@@ -1,6 +1,7 @@
 #include "tile.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include <glm/geometric.hpp>
 
@@ -214,6 +215,24 @@ GridEdge grid_edge(const std::array<std::uint32_t, 2>& p, const std::array<std::
     return {p[1] == q[1] ? 0 : p[0] == q[0] ? 1 : 2, p[1] != q[1] ? p[1] < q[1] : p[0] < q[0]};
 }
 
+/// Adds the time from its construction to its destruction to a counter.
+class BuildTimer {
+public:
+    explicit BuildTimer(std::atomic<std::uint64_t>* total)
+        : total_(total), start_(std::chrono::steady_clock::now()) {}
+    ~BuildTimer() {
+        const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+            std::chrono::steady_clock::now() - start_);
+        total_->fetch_add(static_cast<std::uint64_t>(ns.count()), std::memory_order_relaxed);
+    }
+    BuildTimer(const BuildTimer&) = delete;
+    BuildTimer& operator=(const BuildTimer&) = delete;
+
+private:
+    std::atomic<std::uint64_t>* total_;
+    std::chrono::steady_clock::time_point start_;
+};
+
 /// Triangle index of local grid position (x, y) among the n^2 triangles of
 /// resolution n: "up" triangles row by row, then "down" ones.
 std::size_t local_triangle_index(std::uint32_t n, std::uint32_t x, std::uint32_t y, bool down) {
@@ -241,6 +260,7 @@ NodeId parent_tile_root(const NodeId& root) { return ancestor_at(root, root.leve
 Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch)
     : ctx_(&ctx), root_(root), levels_(std::min(k_tile_depth, ctx.max_level - root.level)) {
     depth_ = static_cast<int>(levels_.size());
+    const BuildTimer timer(ctx.build_ns);
     // The root's children and their border: cut from the parent tile's last
     // patch, or subdivided from the base triangles around the root.
     if (parent_patch) {
@@ -407,6 +427,8 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
 
 void Tile::ensure_level(int j) const {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (ready_.load(std::memory_order_relaxed) >= j) return;  // another thread built it
+    const BuildTimer timer(ctx_->build_ns);
     auto* self = const_cast<Tile*>(this);
     for (int k = ready_.load(std::memory_order_relaxed) + 1; k <= j; ++k) self->build_level(k);
 }
@@ -416,6 +438,7 @@ const Patch& Tile::last_patch() const {
     ensure_level(depth_);
     std::lock_guard<std::mutex> lock(mutex_);
     if (!last_ready_.load(std::memory_order_relaxed)) {
+        const BuildTimer timer(ctx_->build_ns);
         auto* self = const_cast<Tile*>(this);
         if (root_.level + depth_ < ctx_->max_level) self->advance_frontier();
         else self->frontier_ = Patch();  // no tile starts below max_level

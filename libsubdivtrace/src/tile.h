@@ -32,6 +32,9 @@ struct TileContext {
     int max_level;
     /// Running count of node records built (for statistics).
     std::atomic<std::uint64_t>* records_built;
+    /// Nanoseconds spent building tiles' levels and frontiers, summed over
+    /// threads (for statistics; not time waiting for another thread).
+    std::atomic<std::uint64_t>* build_ns;
 };
 
 /// One level of a tile: vertex values on the root's sub-grid of resolution

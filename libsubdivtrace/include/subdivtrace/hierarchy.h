@@ -53,8 +53,9 @@ struct NodeRecord {
 
 struct HierarchyCounters {
     std::uint64_t nodes_built = 0;  ///< node records computed (tiles x their nodes)
-    /// Seconds spent constructing tiles, summed over threads (a tile's own
-    /// work: not the parent tile it starts from, nor waiting for another thread).
+    /// Seconds spent building tiles, summed over threads: a tile's own work
+    /// (its construction, the levels it builds on first use, the frontier a
+    /// child tile starts from), not waiting for another thread.
     double tile_build_seconds = 0.0;
     /// Tile lookups in the cache that found the tile (or waited for another
     /// thread building it). This hierarchy's own, whoever shares the cache;
