@@ -1,9 +1,17 @@
 // Contract "adaptive == uniform" (DESIGN.md section 3): every vertex and
 // normal the lazy hierarchy creates at level k equals uniform level-k
-// subdivision of the whole mesh, whatever the cache budget and thread count.
+// subdivision of the whole mesh, whatever the cache budget and thread count;
+// and, since uniform subdivision is our own code too, every node equals the
+// independent references at each level: OpenMesh for Loop and Butterfly, the
+// brute-force normal scheme of reference_subdivision.h.
+// OpenMesh's VectorT: see test_schemes.cpp (must precede every include).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <set>
 #include <random>
 #include <thread>
 
@@ -13,6 +21,8 @@
 #include "subdivtrace/uniform.h"
 #include "tile.h"
 #include "test_meshes.h"
+#include "unit/openmesh_subdivide.h"
+#include "unit/reference_subdivision.h"
 
 using namespace subdivtrace;
 
@@ -95,6 +105,97 @@ TEST_CASE("adaptive hierarchy equals uniform subdivision", "[hierarchy]") {
     }
     WARN("adaptive vs uniform, worst relative position difference " << overall.position
                                                                      << ", normal " << overall.normal);
+}
+
+namespace {
+
+std::array<std::uint32_t, 3> sorted(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    std::array<std::uint32_t, 3> t{a, b, c};
+    std::sort(t.begin(), t.end());
+    return t;
+}
+
+/// Largest distance (relative to the diagonal) between a level-`level`
+/// node's corners and OpenMesh's vertices after `level` steps of the same
+/// scheme; negative if a corner has no OpenMesh vertex near it or a node's
+/// three corners are not one of OpenMesh's faces.
+double compare_with_openmesh(const Mesh& mesh, SchemeKind scheme, int level) {
+    testmesh::OmMesh om = testmesh::to_openmesh(mesh);
+    testmesh::openmesh_subdivide(om, scheme, level);
+    const Mesh theirs = testmesh::from_openmesh(om);
+    const Hierarchy hierarchy(mesh, scheme, level + 2, std::size_t{256} << 20);
+    const std::size_t per_base = std::size_t{1} << (2 * level);
+    std::vector<Vec3> corners;
+    for (std::size_t t = 0; t < mesh.triangles.size() * per_base; ++t) {
+        const NodeRecord rec = hierarchy.node(node_of_uniform_triangle(t, level));
+        for (int c = 0; c < 3; ++c) corners.push_back(rec.position[c]);
+    }
+    const double scale = testmesh::bbox_diagonal(theirs.positions);
+    double worst = 0.0;
+    const std::vector<std::uint32_t> match =
+        testmesh::match_positions(corners, theirs.positions, 1e-6 * scale, &worst);
+    std::set<std::array<std::uint32_t, 3>> faces;
+    for (const Triangle& t : theirs.triangles) faces.insert(sorted(t[0], t[1], t[2]));
+    for (std::size_t i = 0; i < match.size(); i += 3) {
+        if (match[i] == UINT32_MAX || match[i + 1] == UINT32_MAX || match[i + 2] == UINT32_MAX)
+            return -1.0;
+        if (!faces.count(sorted(match[i], match[i + 1], match[i + 2]))) return -1.0;
+    }
+    return worst / scale;
+}
+
+}  // namespace
+
+TEST_CASE("adaptive Loop and Butterfly nodes equal OpenMesh's subdivision at every level",
+          "[hierarchy][openmesh]") {
+    const std::vector<std::pair<const char*, Mesh>> meshes = {
+        {"icosahedron", testmesh::icosahedron()},
+        {"torus", testmesh::torus(8, 6, 1.0, 0.35)},
+        {"irregular", testmesh::irregular_closed(7)},
+        {"open grid", testmesh::open_grid(4)},
+    };
+    for (const auto& [name, mesh] : meshes) {
+        for (SchemeKind scheme : {SchemeKind::loop, SchemeKind::butterfly}) {
+            for (int level = 1; level <= 3; ++level) {
+                INFO(name << " " << scheme_name(scheme) << " level " << level);
+                const double rel = compare_with_openmesh(mesh, scheme, level);
+                CHECK(rel >= 0.0);
+                CHECK(rel <= 1e-12);
+            }
+        }
+    }
+}
+
+TEST_CASE("adaptive normal-scheme nodes equal the brute-force reference at every level",
+          "[hierarchy][reference]") {
+    const std::vector<std::pair<const char*, Mesh>> meshes = {
+        {"icosahedron", testmesh::icosahedron()},
+        {"torus", testmesh::torus(8, 6, 1.0, 0.35)},
+        {"irregular", testmesh::irregular_closed(7)},
+        {"open grid", testmesh::open_grid(4)},
+        {"half sphere (boundary)", testmesh::octasphere_half(1, true)},
+    };
+    for (const auto& [name, mesh] : meshes) {
+        const Hierarchy hierarchy(mesh, SchemeKind::normal, 5, std::size_t{256} << 20);
+        const double scale = diagonal(mesh);
+        for (int level = 0; level <= 3; ++level) {
+            INFO(name << " level " << level);
+            const testmesh::ReferenceLevel ref = testmesh::reference_normal_scheme(mesh, level);
+            Worst worst;
+            for (std::size_t t = 0; t < ref.triangles.size(); ++t) {
+                const NodeRecord rec = hierarchy.node(node_of_uniform_triangle(t, level));
+                for (int c = 0; c < 3; ++c) {
+                    const std::uint32_t v = ref.triangles[t][c];
+                    worst.position = std::max(worst.position,
+                                              glm::length(rec.position[c] - ref.positions[v]) / scale);
+                    worst.normal = std::max(worst.normal,
+                                            glm::length(rec.normal[c] - ref.vertex_normals[v]));
+                }
+            }
+            CHECK(worst.position <= 1e-12);
+            CHECK(worst.normal <= 1e-12);
+        }
+    }
 }
 
 TEST_CASE("hierarchy nodes do not depend on cache budget or threads", "[hierarchy][threads]") {

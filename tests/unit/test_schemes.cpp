@@ -22,6 +22,7 @@
 
 #include "subdivtrace/uniform.h"
 #include "unit/openmesh_subdivide.h"
+#include "unit/reference_subdivision.h"
 #include "unit/test_meshes.h"
 
 using namespace subdivtrace;
@@ -375,6 +376,35 @@ TEST_CASE("uniform Loop and Butterfly equal OpenMesh on open meshes too", "[sche
     // agree with OpenMesh's, so we pin it. Non-manifold vertices differ on
     // purpose: we keep them fixed as corners (docs/schemes.md).
     check_against_openmesh({{"open grid", open_grid(6)}, {"sphere with a hole", sphere_with_hole()}});
+}
+
+TEST_CASE("uniform normal scheme equals the brute-force reference", "[schemes][reference]") {
+    std::vector<std::pair<std::string, Mesh>> meshes = closed_reference_meshes();
+    meshes.push_back({"open grid", open_grid(6)});
+    meshes.push_back({"sphere with a hole", sphere_with_hole()});
+    for (const auto& [name, base] : meshes) {
+        const double scale = bbox_diagonal(base.positions);
+        for (int levels = 0; levels <= 3; ++levels) {
+            INFO(name << ", level " << levels);
+            const SubdividedMesh ours = subdivide_uniform(base, SchemeKind::normal, levels);
+            const ReferenceLevel ref = reference_normal_scheme(base, levels);
+            REQUIRE(ours.triangles.size() == ref.triangles.size());
+            REQUIRE(ours.positions.size() == ref.positions.size());
+            double position = 0.0;
+            double normal = 0.0;
+            for (std::size_t t = 0; t < ref.triangles.size(); ++t) {
+                for (int c = 0; c < 3; ++c) {
+                    const std::uint32_t v = ref.triangles[t][c];
+                    position = std::max(position, glm::length(ours.positions[ours.triangles[t][c]] -
+                                                              ref.positions[v]) / scale);
+                    normal = std::max(normal, glm::length(ours.corner_normal(t, c) -
+                                                          ref.vertex_normals[v]));
+                }
+            }
+            CHECK(position <= 1e-12);
+            CHECK(normal <= 1e-12);
+        }
+    }
 }
 
 TEST_CASE("every level of a closed mesh stays closed and manifold", "[schemes][structure]") {
