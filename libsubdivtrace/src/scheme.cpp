@@ -3,6 +3,7 @@
 // ModifiedButterflyT on closed meshes (tests/unit/test_schemes.cpp holds us to it).
 #include "subdivtrace/scheme.h"
 
+#include <array>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -82,6 +83,27 @@ const char* scheme_name(SchemeKind kind) {
     return "?";
 }
 
+namespace {
+
+double loop_alpha_of(std::size_t n) {
+    const double t = 3.0 + 2.0 * std::cos(2.0 * k_pi / static_cast<double>(n));
+    return (40.0 - t * t) / 64.0;
+}
+
+/// Loop's vertex weight, written once for the vertex rule and the limit
+/// mask; common valences from a table, since every vertex of every level
+/// asks for its own.
+double loop_alpha(std::size_t n) {
+    static const std::array<double, 32> table = [] {
+        std::array<double, 32> t{};
+        for (std::size_t k = 1; k < t.size(); ++k) t[k] = loop_alpha_of(k);
+        return t;
+    }();
+    return n < table.size() ? table[n] : loop_alpha_of(n);
+}
+
+}  // namespace
+
 Vec3 loop_vertex_point(const VertexRing& ring) {
     const std::size_t n = ring.nbrs.size();
     if (!ring.regular || n < 2 || ring.curve_count > 2) return ring.center;  // corners stay
@@ -91,8 +113,7 @@ Vec3 loop_vertex_point(const VertexRing& ring) {
     }
     if (!ring.closed) return ring.center;
     const double inv_n = 1.0 / static_cast<double>(n);
-    const double t = 3.0 + 2.0 * std::cos(2.0 * k_pi * inv_n);
-    const double alpha = (40.0 - t * t) / 64.0;
+    const double alpha = loop_alpha(n);
     Vec3 sum(0.0);
     for (const Vec3& q : ring.nbrs) sum += q;
     return sum * (inv_n * alpha) + (1.0 - alpha) * ring.center;
@@ -103,8 +124,7 @@ Vec3 loop_limit_point(const VertexRing& ring) {
     if (!ring.regular || n < 2 || ring.curve_count > 2) return ring.center;
     if (ring.curve_count == 2) return (ring.curve[0] + ring.center * 4.0 + ring.curve[1]) / 6.0;
     if (!ring.closed) return ring.center;
-    const double t = 3.0 + 2.0 * std::cos(2.0 * k_pi / static_cast<double>(n));
-    const double alpha = (40.0 - t * t) / 64.0;
+    const double alpha = loop_alpha(n);
     const double chi = 8.0 * alpha / (static_cast<double>(n) * (8.0 * alpha + 3.0));
     Vec3 sum(0.0);
     for (const Vec3& q : ring.nbrs) sum += q;
