@@ -26,7 +26,8 @@ std::uint16_t true_incident_count(const BaseTopology& topo, const VertexKey& key
     // 65535 triangles at one vertex), so such a vertex is simply never whole.
     std::size_t n = 6;
     if (key.kind == VertexKey::base_vertex) n = topo.faces_of_vertex(key.a).size();
-    else if (key.kind == VertexKey::edge_point) n = 3 * topo.edge_face_count(key.a, key.b);
+    else if (key.kind == VertexKey::edge_point)
+        n = 3 * (topo.closed() ? 2 : topo.edge_face_count(key.a, key.b));  // closed: two on every edge
     return static_cast<std::uint16_t>(std::min<std::size_t>(n, UINT16_MAX));
 }
 
