@@ -9,7 +9,6 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <set>
 #include <random>
@@ -109,16 +108,10 @@ TEST_CASE("adaptive hierarchy equals uniform subdivision", "[hierarchy]") {
 
 namespace {
 
-std::array<std::uint32_t, 3> sorted(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    std::array<std::uint32_t, 3> t{a, b, c};
-    std::sort(t.begin(), t.end());
-    return t;
-}
-
 /// Largest distance (relative to the diagonal) between a level-`level`
 /// node's corners and OpenMesh's vertices after `level` steps of the same
 /// scheme; negative if a corner has no OpenMesh vertex near it or a node's
-/// three corners are not one of OpenMesh's faces.
+/// three corners are not one of OpenMesh's faces, in the same orientation.
 double compare_with_openmesh(const Mesh& mesh, SchemeKind scheme, int level) {
     testmesh::OmMesh om = testmesh::to_openmesh(mesh);
     testmesh::openmesh_subdivide(om, scheme, level);
@@ -134,12 +127,12 @@ double compare_with_openmesh(const Mesh& mesh, SchemeKind scheme, int level) {
     double worst = 0.0;
     const std::vector<std::uint32_t> match =
         testmesh::match_positions(corners, theirs.positions, 1e-6 * scale, &worst);
-    std::set<std::array<std::uint32_t, 3>> faces;
-    for (const Triangle& t : theirs.triangles) faces.insert(sorted(t[0], t[1], t[2]));
+    std::set<Triangle> faces;
+    for (const Triangle& t : theirs.triangles) faces.insert(testmesh::canonical(t));
     for (std::size_t i = 0; i < match.size(); i += 3) {
         if (match[i] == UINT32_MAX || match[i + 1] == UINT32_MAX || match[i + 2] == UINT32_MAX)
             return -1.0;
-        if (!faces.count(sorted(match[i], match[i + 1], match[i + 2]))) return -1.0;
+        if (!faces.count(testmesh::canonical({match[i], match[i + 1], match[i + 2]}))) return -1.0;
     }
     return worst / scale;
 }

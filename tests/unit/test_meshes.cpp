@@ -353,6 +353,12 @@ std::vector<int> valences(const Mesh& mesh) {
     return out;
 }
 
+Triangle canonical(Triangle t) {
+    const auto first = std::min_element(t.begin(), t.end()) - t.begin();
+    std::rotate(t.begin(), t.begin() + first, t.end());
+    return t;
+}
+
 double bbox_diagonal(const std::vector<Vec3>& positions) {
     if (positions.empty()) return 0.0;
     Vec3 lo = positions[0], hi = positions[0];

@@ -85,6 +85,10 @@ double max_aspect_ratio(const Mesh& mesh);
 /// Vertex valences (distinct neighbours through triangle edges).
 std::vector<int> valences(const Mesh& mesh);
 
+/// A triangle rotated so its smallest index comes first (same orientation):
+/// equal for the same face whichever corner it starts at.
+Triangle canonical(Triangle t);
+
 /// Length of the bounding-box diagonal of the positions.
 double bbox_diagonal(const std::vector<Vec3>& positions);
 

@@ -40,13 +40,6 @@ bool finite(const Vec3& p) {
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
 }
 
-/// A triangle rotated so its smallest index comes first (same orientation).
-Triangle canonical(Triangle t) {
-    const auto first = std::min_element(t.begin(), t.end()) - t.begin();
-    std::rotate(t.begin(), t.begin() + first, t.end());
-    return t;
-}
-
 std::uint64_t directed_key(std::uint32_t a, std::uint32_t b) {
     return (static_cast<std::uint64_t>(a) << 32) | b;
 }
