@@ -27,12 +27,6 @@ using namespace subdivtrace;
 
 namespace {
 
-double diagonal(const Mesh& m) {
-    Vec3 lo(1e300), hi(-1e300);
-    for (const Vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-    return glm::length(hi - lo);
-}
-
 /// Node of uniform triangle t at `level`: base face t / 4^level, then the
 /// base-4 digits of the remainder, most significant first, as child indices.
 NodeId node_of_uniform_triangle(std::size_t t, int level) {
@@ -55,7 +49,7 @@ Worst compare_with_uniform(const Mesh& mesh, SchemeKind scheme, int level,
                            std::size_t cache_bytes) {
     const SubdividedMesh uniform = subdivide_uniform(mesh, scheme, level);
     const Hierarchy hierarchy(mesh, scheme, level + 2, cache_bytes);
-    const double scale = diagonal(mesh);
+    const double scale = testmesh::bbox_diagonal(mesh.positions);
     Worst worst;
     for (std::size_t t = 0; t < uniform.triangles.size(); ++t) {
         const NodeRecord rec = hierarchy.node(node_of_uniform_triangle(t, level));
@@ -171,7 +165,7 @@ TEST_CASE("adaptive normal-scheme nodes equal the brute-force reference at every
     meshes.push_back({"half sphere (boundary)", testmesh::octasphere_half(1, true)});
     for (const auto& [name, mesh] : meshes) {
         const Hierarchy hierarchy(mesh, SchemeKind::normal, 5, std::size_t{256} << 20);
-        const double scale = diagonal(mesh);
+        const double scale = testmesh::bbox_diagonal(mesh.positions);
         for (int level = 0; level <= 3; ++level) {
             INFO(name << " level " << level);
             const testmesh::ReferenceLevel ref = testmesh::reference_normal_scheme(mesh, level);
@@ -237,7 +231,7 @@ TEST_CASE("Loop leaves are drawn at the limit points of uniform subdivision", "[
         SubdividedMesh uniform = subdivide_uniform(mesh, SchemeKind::loop, level);
         push_to_limit(uniform, SchemeKind::loop);
         const Hierarchy hierarchy(mesh, SchemeKind::loop, level, std::size_t{64} << 20);
-        const double scale = diagonal(mesh);
+        const double scale = testmesh::bbox_diagonal(mesh.positions);
         double worst = 0.0;
         for (std::size_t t = 0; t < uniform.triangles.size(); ++t) {
             const NodeRecord rec = hierarchy.node(node_of_uniform_triangle(t, level));
