@@ -9,6 +9,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "orient.h"
 #include "weld.h"
 
 namespace subdivtrace {
@@ -60,6 +61,33 @@ void check_range(const std::array<std::int64_t, 3>& idx, std::size_t count, cons
                      std::to_string(i) + " out of range (" + std::to_string(count) +
                      (count == 0 ? " entries)"
                                  : " entries, valid 0.." + std::to_string(count - 1) + ")"));
+}
+
+/// Turns triangles (corners 1 and 2 swap, with their normals and uvs) so that
+/// neighbours agree on the winding (orient.h); returns the turned ones.
+std::vector<std::uint32_t> orient_consistently(Mesh& mesh, const std::string& source,
+                                               std::vector<std::string>* warnings) {
+    const Orientation o = consistent_orientation(mesh.triangles, mesh.positions.size());
+    std::vector<std::uint32_t> reversed;
+    reversed.reserve(o.flipped_count);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        if (!o.flipped[t]) continue;
+        reversed.push_back(static_cast<std::uint32_t>(t));
+        std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
+        if (mesh.has_normals()) std::swap(mesh.corner_normals[3 * t + 1], mesh.corner_normals[3 * t + 2]);
+        if (mesh.has_uvs()) std::swap(mesh.corner_uvs[3 * t + 1], mesh.corner_uvs[3 * t + 2]);
+    }
+    if (warnings && o.flipped_count > 0)
+        warnings->push_back(source + ": turned " + std::to_string(o.flipped_count) + " of " +
+                            std::to_string(mesh.triangles.size()) +
+                            " triangles to the winding of their neighbours (first: triangle " +
+                            std::to_string(reversed.front()) +
+                            "); the surface's normals need one consistent side");
+    if (warnings && o.conflicting_edges > 0)
+        warnings->push_back(source + ": " + std::to_string(o.conflicting_edges) +
+                            " edge(s) join triangles whose windings cannot agree (a "
+                            "non-orientable surface, like a Moebius strip): normals flip there");
+    return reversed;
 }
 
 }  // namespace
@@ -181,9 +209,11 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
         warnings->push_back(source + ": dropped " + std::to_string(collapsed) +
                             " triangle(s) that collapsed when welding coincident vertices " +
                             "(first: face " + std::to_string(first_collapsed) + ")");
+    const std::vector<std::uint32_t> reversed = orient_consistently(mesh, source, warnings);
     if (report) {
         report->welded_vertices = arrays.positions.size() - mesh.positions.size();
         report->collapsed_triangles = collapsed;
+        report->reversed_triangles = reversed;
     }
     return mesh;
 }

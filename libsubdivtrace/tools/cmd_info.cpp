@@ -41,6 +41,7 @@ int run_info(const Args& args) {
     else
         std::printf("welded vertices:       none (--no-weld)\n");
     std::printf("triangles:             %zu\n", r.faces);
+    std::printf("turned triangles:      %zu\n", weld.reversed_triangles.size());
     std::printf("edges:                 %zu\n", r.edges);
     std::printf("components:            %zu\n", r.components);
     std::printf("closed:                %s\n", r.closed ? "yes" : "no");

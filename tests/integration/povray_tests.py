@@ -615,6 +615,89 @@ def test_texture_list_equals_mesh2(ctx):
     level0_pair(ctx, "per_vertex", textured_body(verts, faces, uvs, True), mods)
 
 
+# POV-Ray's own scenes/objects/mesh2.pov, "Mesh_B": a cube with a pyramid on
+# each face whose faces do not agree on a winding (mesh2 does not care), with
+# uv_vectors and uv_indices and no normals.
+STELLATED_CUBE_VERTS = [(-1, -1, -1), (1, -1, -1), (-1, 1, -1), (1, 1, -1),
+                        (-1, -1, 1), (1, -1, 1), (-1, 1, 1), (1, 1, 1),
+                        (-1.5, 0, 0), (1.5, 0, 0), (0, -1.5, 0), (0, 1.5, 0), (0, 0, -1.5), (0, 0, 1.5)]
+STELLATED_CUBE_FACES = [(8, 0, 2), (8, 0, 4), (8, 6, 2), (8, 6, 4), (9, 1, 3), (9, 1, 5),
+                        (9, 7, 3), (9, 7, 5), (10, 0, 1), (10, 0, 4), (10, 5, 1), (10, 5, 4),
+                        (11, 2, 3), (11, 2, 6), (11, 7, 3), (11, 7, 6), (12, 0, 1), (12, 0, 2),
+                        (12, 3, 1), (12, 3, 2), (13, 4, 5), (13, 4, 6), (13, 7, 5), (13, 7, 6)]
+STELLATED_CUBE_UVS = [(0, 0), (1, 1), (1, -1), (-1, 1), (-1, -1)]
+STELLATED_CUBE_UV_INDICES = [(0, 1, 2), (0, 1, 3), (0, 4, 2), (0, 4, 3)] * 6
+
+
+def outward(faces, verts):
+    """The same faces, each wound so that its normal points away from the origin."""
+    out = []
+    for a, b, c in faces:
+        pa, pb, pc = verts[a], verts[b], verts[c]
+        u = [pb[i] - pa[i] for i in range(3)]
+        v = [pc[i] - pa[i] for i in range(3)]
+        n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+        out.append((a, b, c) if sum(n[i] * (pa[i] + pb[i] + pc[i]) for i in range(3)) > 0 else (a, c, b))
+    return out
+
+
+def stellated_cube_body(faces, uv_indices, normals=False):
+    """mesh2 body; every third face blends three textures of TEXTURE_LIST (so
+    a face the library turns must turn its texture indices too), the others
+    take the object's uv-mapped texture."""
+    verts = STELLATED_CUBE_VERTS
+    parts = ["vertex_vectors { %d, %s }" % (len(verts), ", ".join(fmt_vec(v) for v in verts))]
+    if normals:
+        # The angle-weighted normals, known by symmetry: along each apex's
+        # axis and each cube corner's diagonal.
+        unit = [tuple(c / math.sqrt(sum(x * x for x in v)) for c in v) for v in verts]
+        parts.append("normal_vectors { %d, %s }" % (len(unit), ", ".join(fmt_vec(n) for n in unit)))
+    parts.append("uv_vectors { %d, %s }" % (len(STELLATED_CUBE_UVS),
+                                            ", ".join(fmt_vec(u) for u in STELLATED_CUBE_UVS)))
+    parts.append(TEXTURE_LIST)
+    items = []
+    for i, f in enumerate(faces):
+        items.append("<%d, %d, %d>, %d, %d, %d" % (f + tuple(v % 3 for v in f)) if i % 3 == 0
+                     else "<%d, %d, %d>" % f)
+    parts.append("face_indices { %d, %s }" % (len(faces), ", ".join(items)))
+    parts.append("uv_indices { %d, %s }" % (len(uv_indices), ", ".join("<%d, %d, %d>" % u for u in uv_indices)))
+    return "\n    ".join(parts)
+
+
+def test_mixed_winding(ctx):
+    """The mixed-winding cube of POV-Ray's mesh2.pov: the library turns the
+    faces that disagree with their neighbours (with their uvs and texture
+    indices), so at max_level 0 it is mesh2 with the normals the symmetry
+    gives (before, half of each apex's triangles cancelled the other half's
+    normals and the refined cube came out star-shaped), inline and declared;
+    refined, it is the same surface as the cube written with one winding."""
+    faces, uvi = STELLATED_CUBE_FACES, STELLATED_CUBE_UV_INDICES
+    mods = ("texture { uv_mapping pigment { spiral2 8 color_map { [0.5 rgb 1] [0.5 rgb <0, 0, 0.4>] } "
+            "scale 0.8 } finish { specular 0.3 } } scale 0.8 rotate <20, 30, 0>")
+    native = SCENE_HEADER + "mesh2 { %s %s }\n" % (stellated_cube_body(faces, uvi, normals=True), mods)
+    _, _, expected, _ = ctx.render("native_smooth", native)
+    body = stellated_cube_body(faces, uvi)
+    inline = SCENE_HEADER + "subdivision_mesh { mesh2 { %s } max_level 0 %s }\n" % (body, mods)
+    _, err, b, _ = ctx.render("subdiv_inline0", inline)
+    assert_close("inline max_level 0 vs mesh2 with the symmetric normals", b, expected, SAME_FRACTION, SAME_MEAN)
+    if "turned 12 of 24 triangles" not in err:
+        raise Failure("expected the warning that 12 of 24 triangles were turned:\n" + tail(err))
+    declared = SCENE_HEADER + "#declare M = mesh2 { %s }\nsubdivision_mesh { M max_level 0 %s }\n" % (body, mods)
+    _, _, b, _ = ctx.render("subdiv_declared0", declared)
+    assert_close("declared max_level 0 vs mesh2 with the symmetric normals", b, expected, SAME_FRACTION, SAME_MEAN)
+
+    one_winding = outward(faces, STELLATED_CUBE_VERTS)
+    uv_one_winding = [u if f == g else (u[0], u[2], u[1]) for f, g, u in zip(faces, one_winding, uvi)]
+    refined = "max_level 5 tolerance 0.5"
+    _, _, mixed, _ = ctx.render("subdiv_mixed5", SCENE_HEADER + "subdivision_mesh { mesh2 { %s } %s %s }\n"
+                                % (body, refined, mods))
+    _, err, same, _ = ctx.render("subdiv_outward5", SCENE_HEADER + "subdivision_mesh { mesh2 { %s } %s %s }\n"
+                                 % (stellated_cube_body(one_winding, uv_one_winding), refined, mods))
+    if "turned" in err:
+        raise Failure("the cube written with one winding was turned:\n" + tail(err))
+    assert_close("refined: mixed winding vs one winding", mixed, same, SAME_FRACTION, SAME_MEAN)
+
+
 def test_uv_without_uv_vectors_equals_mesh2(ctx):
     """Without uv_vectors mesh2's uv is (0, 0) everywhere; so is ours: a
     uv-mapped gradient renders the same at max_level 0."""
@@ -1515,6 +1598,7 @@ TESTS = {
     "copies_own_view_perspective": test_copies_own_view_perspective,
     "copies_own_view_orthographic": test_copies_own_view_orthographic,
     "texture_list_equals_mesh2": test_texture_list_equals_mesh2,
+    "mixed_winding": test_mixed_winding,
     "uv_without_uv_vectors_equals_mesh2": test_uv_without_uv_vectors_equals_mesh2,
     "inside_vector_equals_mesh2": test_inside_vector_equals_mesh2,
     "texture_blend_continuous": test_texture_blend_continuous,

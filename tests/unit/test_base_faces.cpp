@@ -20,7 +20,7 @@ TEST_CASE("kept_faces names the input face of every triangle built", "[mesh][wel
     MeshArrays a;
     a.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0), Vec3(2, 2, 0),
                    Vec3(2, 2, 0), Vec3(3, 0, 0)};
-    a.face_indices = {{0, 1, 2}, {1, 1, 3}, {1, 3, 2}, {4, 5, 6}, {3, 4, 6}, {1, 6, 3}};
+    a.face_indices = {{0, 1, 2}, {1, 1, 3}, {1, 3, 2}, {4, 5, 6}, {3, 6, 4}, {1, 6, 3}};
     std::vector<std::string> warnings;
     WeldReport report;
     const Mesh m = mesh_from_arrays(a, "test", &warnings, WeldOptions{}, &report);

@@ -70,7 +70,8 @@ struct WeldOptions {
     double relative_tolerance = 0.0;
 };
 
-/// What welding did, for reports (`subdivtrace info`).
+/// What building the Mesh did to the input (welding, dropped and turned
+/// triangles), for reports (`subdivtrace info`) and callers with per-face data.
 struct WeldReport {
     /// Input vertices that were merged into an earlier one (input count minus
     /// the count of the built Mesh).
@@ -82,6 +83,12 @@ struct WeldReport {
     /// caller keeping per-face data of its own (mesh2's texture indices)
     /// follows the library's triangles with it.
     std::vector<std::uint32_t> kept_faces;
+    /// Triangles of the built Mesh (ascending) whose corners 1 and 2 were
+    /// swapped, with their normals and UVs, so that every two triangles along
+    /// an edge run it in opposite directions: mesh2 and most file formats do
+    /// not care about winding, the surface's normals do. Each connected part
+    /// keeps the winding most of its triangles have.
+    std::vector<std::uint32_t> reversed_triangles;
 };
 
 /// Builds a Mesh from raw arrays, welds coincident vertices (`weld`) and
@@ -92,8 +99,9 @@ struct WeldReport {
 /// subdivide). Welded vertices take the position of their first occurrence
 /// and are numbered in order of first appearance; unused input vertices are
 /// kept (welded like the others). Triangles keep their order, and their
-/// corner normals and UVs are the input's, exactly. `report` (optional)
-/// receives the counts.
+/// corner normals and UVs are the input's, exactly, except that triangles
+/// wound against their neighbours are turned (WeldReport::reversed_triangles,
+/// with a warning). `report` (optional) receives the counts.
 Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
                       std::vector<std::string>* warnings = nullptr,
                       const WeldOptions& weld = {}, WeldReport* report = nullptr);

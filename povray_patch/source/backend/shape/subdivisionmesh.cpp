@@ -412,14 +412,21 @@ std::string SubdivisionMesh::Build(SubdivisionMeshInput& input, std::vector<std:
 			input.Arrays.reset();
 
 			// Texture indices follow the faces the library kept (it drops
-			// faces that repeat a vertex or that welding collapses).
+			// faces that repeat a vertex or that welding collapses) and the
+			// corners of the ones it turned to agree with their neighbours.
 			if (!input.FaceTextures.empty())
 			{
 				data->Textures.reserve(3 * report.kept_faces.size());
+				std::vector<uint32_t>::const_iterator reversed = report.reversed_triangles.begin();
 				for (size_t t = 0; t < report.kept_faces.size(); t++)
 				{
 					const size_t f = report.kept_faces[t];
 					data->Textures.insert(data->Textures.end(), &input.FaceTextures[3 * f], &input.FaceTextures[3 * f + 3]);
+					if (reversed != report.reversed_triangles.end() && *reversed == t)
+					{
+						std::swap(data->Textures[3 * t + 1], data->Textures[3 * t + 2]);
+						++reversed;
+					}
 				}
 			}
 		}
