@@ -108,6 +108,7 @@ public:
           roots(context),
           cache(std::move(shared_cache)),
           tiles(cache->impl()) {
+        context.roots = &roots;
         tiles.surfaces.fetch_add(1, std::memory_order_relaxed);
     }
 

@@ -166,6 +166,18 @@ public:
     /// the first reader, as most of a patch's border never needs them.
     void ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
 
+    /// Gives v the corner normals normal_of(slot), for each corner slot 3t + c
+    /// at v, instead of computing them (if it has a whole ring and none yet):
+    /// for values known to equal what ensure_normal would compute.
+    template <class NormalOf>
+    void adopt_normal(std::uint32_t v, NormalOf normal_of) {
+        VertexDerived& dv = derived[v];
+        if (dv.has_normal || !dv.has_ring) return;
+        for (std::uint32_t k = incident_offsets[v]; k < incident_offsets[v + 1]; ++k)
+            corner_normal[incident_slots[k]] = normal_of(incident_slots[k]);
+        dv.has_normal = true;
+    }
+
     /// Frees rings and edges (finish() rebuilds them).
     void drop_derived();
     std::size_t owned_bytes() const;

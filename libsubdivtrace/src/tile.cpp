@@ -269,6 +269,7 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch
     } else {
         Patch p = base_patch(ctx.topo, &root.face, 1);
         p.finish(ctx.topo, ctx.scheme);
+        if (ctx.roots) ctx.roots->lend_normals(p);
         std::vector<bool> kept;
         frontier_ = p.subdivide_band(ctx.topo, ctx.scheme, [&](const NodeId& id) { return in_tile(id); }, kept);
         frontier_.keep_only(kept);
@@ -517,6 +518,25 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     }
     split_corners_.shrink_to_fit();
     ctx.records_built->fetch_add(shells_.size(), std::memory_order_relaxed);
+}
+
+Vec3 RootRecords::corner_normal(std::uint32_t face, int c) const {
+    const std::uint32_t slot = 3 * face + static_cast<std::uint32_t>(c);
+    if (!split_corners_.empty()) {
+        const auto it = std::lower_bound(
+            split_corners_.begin(), split_corners_.end(), slot,
+            [](const SplitCorner& x, std::uint32_t s) { return x.slot < s; });
+        if (it != split_corners_.end() && it->slot == slot) return it->normal;
+    }
+    return normal_[mesh_->triangles[face][c]];
+}
+
+void RootRecords::lend_normals(Patch& p) const {
+    // A level-0 patch triangle is its base triangle, corners in the same order.
+    for (std::uint32_t v = 0; v < p.verts.size(); ++v)
+        p.adopt_normal(v, [&](std::uint32_t slot) {
+            return corner_normal(p.tris[slot / 3].id.face, static_cast<int>(slot % 3));
+        });
 }
 
 NodeRecord RootRecords::record(std::uint32_t face) const {

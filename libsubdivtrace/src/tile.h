@@ -24,6 +24,8 @@ namespace subdivtrace::detail {
 /// so no ray pays for levels below what it needs (docs/tracer.md measures 2-4).
 constexpr int k_tile_depth = 3;
 
+class RootRecords;
+
 /// What a tile build needs to know of the hierarchy.
 struct TileContext {
     const BaseTopology& topo;
@@ -35,6 +37,9 @@ struct TileContext {
     /// Nanoseconds spent building tiles' levels and frontiers, summed over
     /// threads (for statistics; not time waiting for another thread).
     std::atomic<std::uint64_t>* build_ns;
+    /// The base level's records once they are built: a base triangle's tile
+    /// takes its level-0 normals from them instead of recomputing them.
+    const RootRecords* roots = nullptr;
 };
 
 /// One level of a tile: vertex values on the root's sub-grid of resolution
@@ -126,9 +131,15 @@ class RootRecords {
 public:
     explicit RootRecords(const TileContext& ctx);
     NodeRecord record(std::uint32_t face) const;
+    /// Gives the level-0 patch `p` (finished) the normals of its vertices
+    /// with whole rings: the same bits ensure_normal would compute (both sum
+    /// the ring in canonical order), once per mesh instead of once per tile.
+    void lend_normals(Patch& p) const;
     std::size_t owned_bytes() const;
 
 private:
+    /// The normal at corner c of base triangle `face`, of its record.
+    Vec3 corner_normal(std::uint32_t face, int c) const;
     const Mesh* mesh_;
     std::vector<Vec3> normal_;  ///< per base vertex
     std::vector<Vec3> draw_;    ///< Loop only
