@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
+#include <thread>
 
 #include <glm/geometric.hpp>
 
@@ -14,6 +16,33 @@ namespace {
 
 /// Base triangles whose level-0 records are computed from one patch.
 constexpr std::size_t k_root_chunk = 4096;
+constexpr std::uint32_t k_no_slot = ~std::uint32_t{0};
+
+/// Runs work(i, scratch) for i in [0, count) on up to one thread per core,
+/// each thread with its own scratch; rethrows the first exception.
+template <class Work>
+void run_in_parallel(std::size_t count, Work work) {
+    const std::size_t threads =
+        std::min<std::size_t>(count, std::max(1u, std::thread::hardware_concurrency()));
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    const auto worker = [&] {
+        BasePatchScratch scratch;
+        try {
+            for (std::size_t i; (i = next.fetch_add(1)) < count;) work(i, scratch);
+        } catch (...) {
+            const std::lock_guard<std::mutex> lock(failure_mutex);
+            if (!failure) failure = std::current_exception();
+            next = count;  // the others stop after their current item
+        }
+    };
+    std::vector<std::thread> pool;
+    for (std::size_t k = 1; k < threads; ++k) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+}
 
 /// Loop's limit normal from a closed ring of n points in counter-clockwise
 /// order (Halstead, Kass and DeRose 1993: the tangent masks cos(2 pi k / n),
@@ -466,58 +495,89 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     shading_.resize(vertex_count);
     displacement_.resize(vertex_count);
     edge_normal_.resize(3 * face_count);
-
     if (ctx.scheme == SchemeKind::loop) draw_.resize(vertex_count);
     shells_.resize(face_count);
+
+    // A vertex keeps the values of its first corner (the lowest slot 3f + c);
+    // the corners whose normals differ (across a crease) are kept apart.
+    // Knowing each vertex's first corner up front lets the chunks below run
+    // on several threads: each per-vertex value has exactly one writer.
+    std::vector<std::uint32_t> first_slot(vertex_count, k_no_slot);
+    for (std::size_t f = 0; f < face_count; ++f)
+        for (int c = 0; c < 3; ++c) {
+            std::uint32_t& first = first_slot[mesh_->triangles[f][c]];
+            if (first == k_no_slot) first = static_cast<std::uint32_t>(3 * f + c);
+        }
+
     // In chunks of base triangles, each with the border its records read:
     // the whole mesh at once made the base level's patch most of a large
     // mesh's construction peak.
+    const std::size_t chunk_count = (face_count + k_root_chunk - 1) / k_root_chunk;
+    std::vector<ChunkCorners> corners(chunk_count);
+    run_in_parallel(chunk_count, [&](std::size_t chunk, BasePatchScratch& scratch) {
+        build_chunk(ctx, chunk * k_root_chunk, std::min(face_count, (chunk + 1) * k_root_chunk),
+                    first_slot, scratch, corners[chunk]);
+    });
+    // The corners a chunk could not compare (their vertex's first corner is
+    // in an earlier chunk) are compared now; chunks and their lists are in
+    // slot order, so split_corners_ ascends.
+    for (ChunkCorners& chunk : corners) {
+        std::vector<SplitCorner> merged;
+        merged.reserve(chunk.split.size() + chunk.deferred.size());
+        auto split = chunk.split.begin();
+        for (const SplitCorner& d : chunk.deferred) {
+            for (; split != chunk.split.end() && split->slot < d.slot; ++split) merged.push_back(*split);
+            const std::uint32_t v = mesh_->triangles[d.slot / 3][d.slot % 3];
+            if (d.normal != normal_[v] || d.shading != shading_[v]) merged.push_back(d);
+        }
+        merged.insert(merged.end(), split, chunk.split.end());
+        split_corners_.insert(split_corners_.end(), merged.begin(), merged.end());
+    }
+    split_corners_.shrink_to_fit();
+    linear_shading_ = !corners.empty() && corners.front().linear_shading;
+    ctx.records_built->fetch_add(shells_.size(), std::memory_order_relaxed);
+}
+
+void RootRecords::build_chunk(const TileContext& ctx, std::size_t first, std::size_t last,
+                              const std::vector<std::uint32_t>& first_slot,
+                              BasePatchScratch& scratch, ChunkCorners& out) {
     std::vector<std::uint32_t> region;
-    std::vector<bool> written(vertex_count, false);
-    BasePatchScratch scratch;
-    for (std::size_t first = 0; first < face_count; first += k_root_chunk) {
-        region.clear();
-        for (std::size_t f = first; f < std::min(face_count, first + k_root_chunk); ++f)
-            region.push_back(static_cast<std::uint32_t>(f));
-        Patch p = base_patch(ctx.topo, region.data(), region.size(), &scratch);
-        p.finish(ctx.topo, ctx.scheme);
-        // The next level's positions only: the shells read its edge points
-        // (and Loop's moved corners), never its triangles.
-        std::vector<bool> in_chunk(p.tris.size());
-        for (std::size_t t = 0; t < p.tris.size(); ++t)
-            in_chunk[t] = p.tris[t].id.face >= first && p.tris[t].id.face < first + region.size();
-        const std::vector<bool> needed = p.points_around(in_chunk);
-        const Patch next = p.next_positions(ctx.topo, ctx.scheme, &needed);
-        ShadingMemo memo(p);
-        for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
-            if (!in_chunk[t]) continue;  // border
-            const std::uint32_t f = p.tris[t].id.face;
-            for (std::uint32_t v : p.tris[t].v) p.ensure_normal(ctx.topo, ctx.scheme, v);
-            const NodeRecord rec = make_record(ctx, p, &next, t, memo);
-            shells_[f] = CompactShell::from(rec.shell, rec.position[0]);
-            linear_shading_ = rec.linear_shading;  // the same for every level-0 record
-            for (int e = 0; e < 3; ++e) edge_normal_[3 * f + e] = rec.edge_normal[e];
-            for (int c = 0; c < 3; ++c) {
-                const std::uint32_t v = p.verts[p.tris[t].v[c]].key.a;
-                if (!written[v]) {
-                    // A vertex keeps the normal of its first corner; where a
-                    // crease splits its normals, the corners that differ are
-                    // kept apart (faces come in order, so slots ascend).
-                    written[v] = true;
-                    normal_[v] = rec.normal[c];
-                    shading_[v] = glm::vec3(rec.shading_normal[c]);
-                    displacement_[v] = rec.displacement[c];
-                    if (!draw_.empty()) draw_[v] = rec.draw_position[c];
-                } else if (rec.normal[c] != normal_[v] ||
-                           glm::vec3(rec.shading_normal[c]) != shading_[v]) {
-                    split_corners_.push_back({3 * f + static_cast<std::uint32_t>(c), rec.normal[c],
-                                              glm::vec3(rec.shading_normal[c])});
-                }
+    for (std::size_t f = first; f < last; ++f) region.push_back(static_cast<std::uint32_t>(f));
+    Patch p = base_patch(ctx.topo, region.data(), region.size(), &scratch);
+    p.finish(ctx.topo, ctx.scheme);
+    // The next level's positions only: the shells read its edge points
+    // (and Loop's moved corners), never its triangles.
+    std::vector<bool> in_chunk(p.tris.size());
+    for (std::size_t t = 0; t < p.tris.size(); ++t)
+        in_chunk[t] = p.tris[t].id.face >= first && p.tris[t].id.face < last;
+    const std::vector<bool> needed = p.points_around(in_chunk);
+    const Patch next = p.next_positions(ctx.topo, ctx.scheme, &needed);
+    ShadingMemo memo(p);
+    // The patch's triangles ascend by face, so its corners by slot.
+    for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
+        if (!in_chunk[t]) continue;  // border
+        const std::uint32_t f = p.tris[t].id.face;
+        for (std::uint32_t v : p.tris[t].v) p.ensure_normal(ctx.topo, ctx.scheme, v);
+        const NodeRecord rec = make_record(ctx, p, &next, t, memo);
+        shells_[f] = CompactShell::from(rec.shell, rec.position[0]);
+        out.linear_shading = rec.linear_shading;  // the same for every level-0 record
+        for (int e = 0; e < 3; ++e) edge_normal_[3 * f + e] = rec.edge_normal[e];
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = p.verts[p.tris[t].v[c]].key.a;
+            const std::uint32_t slot = 3 * f + static_cast<std::uint32_t>(c);
+            const SplitCorner corner{slot, rec.normal[c], glm::vec3(rec.shading_normal[c])};
+            if (slot == first_slot[v]) {
+                normal_[v] = rec.normal[c];
+                shading_[v] = corner.shading;
+                displacement_[v] = rec.displacement[c];
+                if (!draw_.empty()) draw_[v] = rec.draw_position[c];
+            } else if (first_slot[v] / 3 < first) {
+                out.deferred.push_back(corner);  // written by an earlier chunk
+            } else if (corner.normal != normal_[v] || corner.shading != shading_[v]) {
+                out.split.push_back(corner);
             }
         }
     }
-    split_corners_.shrink_to_fit();
-    ctx.records_built->fetch_add(shells_.size(), std::memory_order_relaxed);
 }
 
 Vec3 RootRecords::corner_normal(std::uint32_t face, int c) const {

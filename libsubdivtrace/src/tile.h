@@ -156,6 +156,18 @@ private:
         glm::vec3 shading;
     };
     std::vector<SplitCorner> split_corners_;
+
+    /// What one chunk of base triangles leaves to be merged in slot order.
+    struct ChunkCorners {
+        std::vector<SplitCorner> split;     ///< compared within the chunk: they differ
+        std::vector<SplitCorner> deferred;  ///< vertex's first corner in an earlier chunk
+        bool linear_shading = false;
+    };
+    /// Records of base triangles [first, last): shells and edge normals, the
+    /// values of vertices whose first corner (first_slot) is among them.
+    void build_chunk(const TileContext& ctx, std::size_t first, std::size_t last,
+                     const std::vector<std::uint32_t>& first_slot, BasePatchScratch& scratch,
+                     ChunkCorners& out);
 };
 
 }  // namespace subdivtrace::detail

@@ -100,6 +100,38 @@ TEST_CASE("adaptive hierarchy equals uniform subdivision", "[hierarchy]") {
                                                                      << ", normal " << overall.normal);
 }
 
+TEST_CASE("base records built on several threads equal uniform subdivision", "[hierarchy][threads]") {
+    // The base level's records are built in chunks of 4096 triangles, on
+    // one thread per core, and a vertex keeps its first corner's values:
+    // meshes of several chunks, with creases (corners whose normals differ
+    // from their vertex's first one, often in another chunk) and with the
+    // faces shuffled so that nearly every vertex spans chunks.
+    Mesh creased = to_mesh(subdivide_uniform(testmesh::faceted_cube(), SchemeKind::normal, 5));
+    Mesh shuffled = creased;
+    std::mt19937 rng(5);
+    std::vector<std::size_t> order(shuffled.triangles.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), rng);
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        shuffled.triangles[i] = creased.triangles[order[i]];
+        for (int c = 0; c < 3; ++c) shuffled.corner_normals[3 * i + c] = creased.corner_normals[3 * order[i] + c];
+    }
+    const std::vector<std::pair<const char*, Mesh>> meshes = {
+        {"icosphere 5 (20480 triangles)", testmesh::icosphere(5)},
+        {"faceted cube level 5 (12288 triangles, creases)", creased},
+        {"the same, faces shuffled", shuffled},
+    };
+    for (const auto& [name, mesh] : meshes) {
+        REQUIRE(mesh.triangles.size() > 2 * 4096);
+        for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop}) {
+            INFO(name << " " << scheme_name(scheme));
+            const Worst w = compare_with_uniform(mesh, scheme, 0, std::size_t{256} << 20);
+            CHECK(w.position <= 1e-12);
+            CHECK(w.normal <= 1e-12);
+        }
+    }
+}
+
 namespace {
 
 /// Largest distance (relative to the diagonal) between a level-`level`
