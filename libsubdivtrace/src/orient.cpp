@@ -1,85 +1,66 @@
 // Consistent winding by a breadth-first walk over manifold edges (orient.h).
 #include "orient.h"
 
-#include <algorithm>
-
 namespace subdivtrace {
 
 namespace {
 
 constexpr std::uint32_t k_none = ~std::uint32_t{0};
 
-/// One side of an undirected edge: which triangle corner starts it, and
-/// whether that triangle runs it from the lower vertex index to the higher.
-struct EdgeSide {
-    std::uint32_t high;
-    std::uint32_t corner;  // 3 * triangle + c: the edge from corner c to c + 1
-    bool ascending;
-};
+/// The triangles at each vertex, in compressed rows (4 bytes per corner plus
+/// 4 per vertex: the walk below finds an edge's other triangle through them,
+/// a per-edge table would take three times the memory at a million triangles).
+struct VertexFaces {
+    std::vector<std::uint32_t> start;
+    std::vector<std::uint32_t> faces;
 
-/// neighbour[3t + c]: the triangle across t's edge c when exactly two
-/// triangles share that edge, else k_none; same_way[3t + c]: both run it in
-/// the same direction (so their windings disagree).
-struct EdgeNeighbours {
-    std::vector<std::uint32_t> neighbour;
-    std::vector<std::uint8_t> same_way;  // bytes, not vector<bool>: read in the hot loop
-};
-
-EdgeNeighbours manifold_neighbours(const std::vector<Triangle>& triangles,
-                                   std::size_t vertex_count) {
-    // Edges bucketed by their lower vertex (a counting sort, linear time);
-    // a bucket holds a few edges, so matching inside one is a short sort.
-    const std::size_t corners = 3 * triangles.size();
-    std::vector<std::uint32_t> start(vertex_count + 1, 0);
-    for (const Triangle& t : triangles)
-        for (int c = 0; c < 3; ++c) ++start[std::min(t[c], t[(c + 1) % 3]) + 1];
-    for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
-    std::vector<EdgeSide> sides(corners);
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-        for (int c = 0; c < 3; ++c) {
-            const std::uint32_t a = triangles[t][c], b = triangles[t][(c + 1) % 3];
-            sides[fill[std::min(a, b)]++] = {std::max(a, b), static_cast<std::uint32_t>(3 * t + c),
-                                            a < b};
-        }
-
-    EdgeNeighbours out{std::vector<std::uint32_t>(corners, k_none),
-                       std::vector<std::uint8_t>(corners, 0)};
-    for (std::size_t v = 0; v < vertex_count; ++v) {
-        const auto first = sides.begin() + start[v], last = sides.begin() + start[v + 1];
-        // Within a bucket the sides are in corner order already (filled in
-        // triangle order), so ordering by `high` alone, stably, keeps it.
-        const auto by_high = [](const EdgeSide& x, const EdgeSide& y) { return x.high < y.high; };
-        if (last - first <= 16) {
-            for (auto i = first + 1; i < last; ++i)  // insertion sort: a bucket holds ~3
-                for (auto j = i; j != first && by_high(*j, *(j - 1)); --j) std::iter_swap(j, j - 1);
-        } else {
-            std::stable_sort(first, last, by_high);
-        }
-        for (auto run = first; run != last;) {
-            auto end = run;
-            while (end != last && end->high == run->high) ++end;
-            if (end - run == 2) {
-                const EdgeSide& x = run[0];
-                const EdgeSide& y = run[1];
-                out.neighbour[x.corner] = y.corner / 3;
-                out.neighbour[y.corner] = x.corner / 3;
-                out.same_way[x.corner] = out.same_way[y.corner] = x.ascending == y.ascending ? 1 : 0;
-            }
-            run = end;
-        }
+    VertexFaces(const std::vector<Triangle>& triangles, std::size_t vertex_count)
+        : start(vertex_count + 1, 0), faces(3 * triangles.size()) {
+        for (const Triangle& t : triangles)
+            for (std::uint32_t v : t) ++start[v + 1];
+        for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t t = 0; t < triangles.size(); ++t)
+            for (std::uint32_t v : triangles[t]) faces[fill[v]++] = static_cast<std::uint32_t>(t);
     }
-    return out;
+};
+
+/// Position of `v` among t's corners (t holds it).
+int corner_of(const Triangle& t, std::uint32_t v) {
+    return t[0] == v ? 0 : t[1] == v ? 1 : 2;
 }
 
 }  // namespace
 
 Orientation consistent_orientation(const std::vector<Triangle>& triangles,
                                    std::size_t vertex_count) {
-    const EdgeNeighbours edges = manifold_neighbours(triangles, vertex_count);
+    const VertexFaces at(triangles, vertex_count);
     const std::size_t n = triangles.size();
     Orientation out;
     out.flipped.assign(n, 0);
+
+    // The triangle across t's edge from corner c to c + 1 when exactly two
+    // triangles hold that edge, and whether it runs the edge the same way.
+    const auto across = [&](std::uint32_t t, int c, bool& same_way) {
+        const std::uint32_t a = triangles[t][c], b = triangles[t][(c + 1) % 3];
+        // Through the endpoint with fewer triangles.
+        const bool through_a = at.start[a + 1] - at.start[a] <= at.start[b + 1] - at.start[b];
+        const std::uint32_t x = through_a ? a : b, y = through_a ? b : a;
+        std::uint32_t found = k_none, count = 0;
+        for (std::uint32_t k = at.start[x]; k < at.start[x + 1]; ++k) {
+            const std::uint32_t u = at.faces[k];
+            if (u == t) continue;
+            const Triangle& tri = triangles[u];
+            const int cx = corner_of(tri, x);
+            const bool x_to_y = tri[(cx + 1) % 3] == y;
+            if (!x_to_y && tri[(cx + 2) % 3] != y) continue;
+            if (++count > 1) return k_none;  // a non-manifold edge joins nothing
+            found = u;
+            same_way = x_to_y == through_a;  // u also runs a -> b
+        }
+        return found;
+    };
+
     std::vector<std::uint8_t> reached(n, 0);
     std::vector<std::uint32_t> order;  // triangles in visiting order, component by component
     order.reserve(n);
@@ -93,10 +74,11 @@ Orientation consistent_orientation(const std::vector<Triangle>& triangles,
         for (std::size_t next = component; next < order.size(); ++next) {
             const std::uint32_t t = order[next];
             for (int c = 0; c < 3; ++c) {
-                const std::uint32_t u = edges.neighbour[3 * t + c];
+                bool same_way = false;
+                const std::uint32_t u = across(t, c, same_way);
                 if (u == k_none) continue;
                 // Running the edge the same way means one of the two turns.
-                const bool want = (out.flipped[t] ^ edges.same_way[3 * t + c]) != 0;
+                const bool want = (out.flipped[t] != 0) != same_way;
                 if (!reached[u]) {
                     reached[u] = 1;
                     out.flipped[u] = want ? 1 : 0;
@@ -110,8 +92,7 @@ Orientation consistent_orientation(const std::vector<Triangle>& triangles,
         // Keep the winding most of the component's triangles already have.
         const std::size_t size = order.size() - component;
         if (2 * component_flips > size) {
-            for (std::size_t i = component; i < order.size(); ++i)
-                out.flipped[order[i]] ^= 1;
+            for (std::size_t i = component; i < order.size(); ++i) out.flipped[order[i]] ^= 1;
             component_flips = size - component_flips;
         }
         out.flipped_count += component_flips;
