@@ -63,8 +63,9 @@ void check_range(const std::array<std::int64_t, 3>& idx, std::size_t count, cons
                                  : " entries, valid 0.." + std::to_string(count - 1) + ")"));
 }
 
-/// Turns triangles (corners 1 and 2 swap, with their normals and uvs) so that
-/// neighbours agree on the winding (orient.h); returns the turned ones.
+/// Turns triangles (corners 1 and 2 swap) so that neighbours agree on the
+/// winding (orient.h); returns the turned ones, ascending (their corner
+/// normals and uvs, not built yet, must follow).
 std::vector<std::uint32_t> orient_consistently(Mesh& mesh, const std::string& source,
                                                std::vector<std::string>* warnings) {
     const Orientation o = consistent_orientation(mesh.triangles, mesh.positions.size());
@@ -74,8 +75,6 @@ std::vector<std::uint32_t> orient_consistently(Mesh& mesh, const std::string& so
         if (!o.flipped[t]) continue;
         reversed.push_back(static_cast<std::uint32_t>(t));
         std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
-        if (mesh.has_normals()) std::swap(mesh.corner_normals[3 * t + 1], mesh.corner_normals[3 * t + 2]);
-        if (mesh.has_uvs()) std::swap(mesh.corner_uvs[3 * t + 1], mesh.corner_uvs[3 * t + 2]);
     }
     if (warnings && o.flipped_count > 0)
         warnings->push_back(source + ": turned " + std::to_string(o.flipped_count) + " of " +
@@ -158,15 +157,13 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
         return remap.empty() ? static_cast<std::uint32_t>(i) : remap[static_cast<std::size_t>(i)];
     };
 
-    if (report) {
-        report->kept_faces.clear();
-        report->kept_faces.reserve(n_faces);
-    }
     // Copy, dropping triangles that repeat a vertex (as given, or once welded):
     // they have no area and no three edges, so no scheme can split them.
+    std::vector<std::uint32_t> local_kept;
+    std::vector<std::uint32_t>& kept = report ? report->kept_faces : local_kept;
+    kept.clear();
+    kept.reserve(n_faces);
     mesh.triangles.reserve(n_faces);
-    if (has_normals) mesh.corner_normals.reserve(3 * n_faces);
-    if (has_uvs) mesh.corner_uvs.reserve(3 * n_faces);
     std::size_t dropped = 0, first_dropped = 0, collapsed = 0, first_collapsed = 0;
     for (std::size_t f = 0; f < n_faces; ++f) {
         const auto& v = arrays.face_indices[f];
@@ -180,14 +177,27 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
             continue;
         }
         mesh.triangles.push_back(t);
-        if (report) report->kept_faces.push_back(static_cast<std::uint32_t>(f));
-        for (int c = 0; c < 3; ++c) {
+        kept.push_back(static_cast<std::uint32_t>(f));
+    }
+    // Winding before the corners' normals and uvs exist: its work arrays
+    // then do not add to the construction's peak.
+    const std::vector<std::uint32_t> reversed =
+        mesh.triangles.empty() ? std::vector<std::uint32_t>{}
+                               : orient_consistently(mesh, source, warnings);
+    if (has_normals) mesh.corner_normals.reserve(3 * kept.size());
+    if (has_uvs) mesh.corner_uvs.reserve(3 * kept.size());
+    auto next_reversed = reversed.begin();
+    for (std::size_t t = 0; t < kept.size(); ++t) {
+        const std::size_t f = kept[t];
+        const bool turned = next_reversed != reversed.end() && *next_reversed == t;
+        if (turned) ++next_reversed;
+        for (const int c : {0, turned ? 2 : 1, turned ? 1 : 2}) {
             if (has_normals) {
-                const auto& ni = arrays.normal_indices.empty() ? v : arrays.normal_indices[f];
+                const auto& ni = arrays.normal_indices.empty() ? arrays.face_indices[f] : arrays.normal_indices[f];
                 mesh.corner_normals.push_back(arrays.normals[static_cast<std::size_t>(ni[c])]);
             }
             if (has_uvs) {
-                const auto& ui = arrays.uv_indices.empty() ? v : arrays.uv_indices[f];
+                const auto& ui = arrays.uv_indices.empty() ? arrays.face_indices[f] : arrays.uv_indices[f];
                 mesh.corner_uvs.push_back(arrays.uvs[static_cast<std::size_t>(ui[c])]);
             }
         }
@@ -209,7 +219,6 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
         warnings->push_back(source + ": dropped " + std::to_string(collapsed) +
                             " triangle(s) that collapsed when welding coincident vertices " +
                             "(first: face " + std::to_string(first_collapsed) + ")");
-    const std::vector<std::uint32_t> reversed = orient_consistently(mesh, source, warnings);
     if (report) {
         report->welded_vertices = arrays.positions.size() - mesh.positions.size();
         report->collapsed_triangles = collapsed;
