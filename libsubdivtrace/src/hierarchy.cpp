@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "base_topology.h"
+#include "root_records.h"
 #include "tile.h"
 #include "tile_cache_impl.h"
 
