@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <thread>
 
 #include <glm/common.hpp>
 
@@ -11,6 +13,8 @@ namespace subdivtrace::detail {
 namespace {
 
 constexpr int k_bins = 16;
+/// Trees over at least this many items build their two halves on two threads.
+constexpr std::uint32_t k_parallel_items = 1u << 16;
 
 double half_area(const Vec3& lo, const Vec3& hi) {
     const Vec3 e = glm::max(hi - lo, Vec3(0.0));
@@ -70,8 +74,13 @@ struct Builder {
     // once to bin it along all three axes and once to partition it.
     void run() {
         const std::uint32_t n_items = static_cast<std::uint32_t>(items.size());
-        std::vector<Task> work{{0, 0, n_items, bounds(0, n_items)}};
         nodes.push_back({});
+        run_from({0, 0, n_items, bounds(0, n_items)});
+    }
+
+    /// Builds the subtree of `root` (its node already allocated) over its items.
+    void run_from(const Task& root) {
+        std::vector<Task> work{root};
         while (!work.empty()) {
             const Task task = work.back();
             work.pop_back();
@@ -198,15 +207,73 @@ void Bvh::build(std::vector<Vec3> lo, std::vector<Vec3> hi, int max_leaf_size) {
     // (2n - 1): pages past the nodes written are never touched, so never
     // resident, and no growth copies the list. The tree keeps an exact copy,
     // made once the boxes (48 bytes per item) are freed.
-    std::vector<BvhNode> nodes;
-    nodes.reserve(2 * lo.size());
-    {
-        Builder b{lo, hi, nodes, items_, origin_, max_leaf_size};
-        b.run();
+    const std::uint32_t n = static_cast<std::uint32_t>(lo.size());
+    if (n < k_parallel_items || std::thread::hardware_concurrency() < 2) {
+        std::vector<BvhNode> nodes;
+        nodes.reserve(2 * lo.size());
+        Builder{lo, hi, nodes, items_, origin_, max_leaf_size}.run();
+        lo = std::vector<Vec3>();
+        hi = std::vector<Vec3>();
+        nodes_.assign(nodes.begin(), nodes.end());
+        return;
     }
+    // A large tree: the root's split here, then its two subtrees on two
+    // threads (their items are disjoint ranges), each into a list of its
+    // own, joined below. Splits depend only on a range's items, so the tree
+    // is the one a single thread builds, only numbered differently.
+    std::vector<BvhNode> root(1);
+    Builder top{lo, hi, root, items_, origin_, max_leaf_size};
+    const Builder::Task all{0, 0, n, top.bounds(0, n)};
+    root[0].set_box(origin_, all.range.blo, all.range.bhi);
+    Range left_range, right_range;
+    const std::uint32_t split = top.find_split(all, left_range, right_range);
+    if (split == 0) {  // one leaf (cannot happen above max_leaf items, kept for safety)
+        root[0].first = 0;
+        root[0].count = n;
+        nodes_ = root;
+        return;
+    }
+    std::vector<BvhNode> left(1), right(1);
+    left.reserve(2 * std::size_t{split});
+    right.reserve(2 * std::size_t{n - split});
+    std::exception_ptr left_failure;
+    std::thread left_thread([&] {
+        try {
+            Builder{lo, hi, left, items_, origin_, max_leaf_size}.run_from({0, 0, split, left_range});
+        } catch (...) {
+            left_failure = std::current_exception();
+        }
+    });
+    try {
+        Builder{lo, hi, right, items_, origin_, max_leaf_size}.run_from({0, split, n, right_range});
+    } catch (...) {
+        left_thread.join();
+        throw;
+    }
+    left_thread.join();
+    if (left_failure) std::rethrow_exception(left_failure);
     lo = std::vector<Vec3>();
     hi = std::vector<Vec3>();
-    nodes_.assign(nodes.begin(), nodes.end());
+    // Node 0 the root, 1 and 2 its children, then the left subtree's other
+    // nodes, then the right's (siblings stay adjacent in each).
+    const auto left_index = [&](std::uint32_t i) { return i == 0 ? 1u : 2u + i; };
+    const auto right_index = [&](std::uint32_t i) {
+        return i == 0 ? 2u : 2u + static_cast<std::uint32_t>(left.size()) - 1u + i;
+    };
+    nodes_.resize(1 + left.size() + right.size());
+    nodes_[0] = root[0];
+    nodes_[0].first = 1;
+    nodes_[0].count = 0;
+    for (std::uint32_t i = 0; i < left.size(); ++i) {
+        BvhNode node = left[i];
+        if (node.count == 0) node.first = left_index(node.first);
+        nodes_[left_index(i)] = node;
+    }
+    for (std::uint32_t i = 0; i < right.size(); ++i) {
+        BvhNode node = right[i];
+        if (node.count == 0) node.first = right_index(node.first);
+        nodes_[right_index(i)] = node;
+    }
 }
 
 namespace {

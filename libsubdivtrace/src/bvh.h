@@ -42,6 +42,8 @@ public:
     const Vec3& origin() const { return origin_; }
     const BvhNode& root() const { return nodes_.front(); }
     std::size_t node_count() const { return nodes_.size(); }
+    const BvhNode& node(std::size_t i) const { return nodes_[i]; }
+    std::uint32_t item(std::size_t k) const { return items_[k]; }
     std::size_t memory_bytes() const {
         return nodes_.capacity() * sizeof(BvhNode) + items_.capacity() * sizeof(std::uint32_t);
     }

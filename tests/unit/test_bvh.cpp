@@ -5,6 +5,7 @@
 
 #include <random>
 #include <set>
+#include <tuple>
 
 #include "bvh.h"
 
@@ -12,12 +13,15 @@ using namespace subdivtrace;
 
 TEST_CASE("BVH: float nodes hold their items' boxes and the traversal finds every box a ray hits",
           "[bvh]") {
+    // 2000 boxes, and 100,000 (a tree that large builds its two halves on two threads).
     std::mt19937 rng(7);
-    for (const double offset : {0.0, 1e6}) {
+    for (const auto& [offset, count, rays] : {std::tuple{0.0, 2000, 500}, std::tuple{1e6, 2000, 500},
+                                             std::tuple{0.0, 100000, 100}}) {
+        INFO(count << " boxes at offset " << offset);
         // Boxes with 1e-3 detail, at the origin and 1e6 away from it.
         std::uniform_real_distribution<double> centre(-1.0, 1.0), size(0.0, 1e-3);
         std::vector<Vec3> lo, hi;
-        for (int k = 0; k < 2000; ++k) {
+        for (int k = 0; k < count; ++k) {
             const Vec3 c(offset + centre(rng), offset + centre(rng), offset + centre(rng));
             const Vec3 e(size(rng), size(rng), size(rng));
             lo.push_back(c - e);
@@ -30,7 +34,7 @@ TEST_CASE("BVH: float nodes hold their items' boxes and the traversal finds ever
         // double-precision test accepts.
         std::uniform_int_distribution<int> pick(0, static_cast<int>(lo.size()) - 1);
         int checked = 0;
-        for (int r = 0; r < 500; ++r) {
+        for (int r = 0; r < rays; ++r) {
             const int target = pick(rng);
             const Vec3 origin(offset + 3.0, offset + 2.0 * centre(rng), offset + 2.0 * centre(rng));
             const Vec3 dir = lo[target] - origin;
@@ -50,6 +54,30 @@ TEST_CASE("BVH: float nodes hold their items' boxes and the traversal finds ever
             for (std::uint32_t k : expected) REQUIRE(found.count(k) == 1);
             checked += static_cast<int>(expected.size());
         }
-        CHECK(checked >= 500);  // every ray hits at least its target
+        CHECK(checked >= rays);  // every ray hits at least its target
+
+        // Every item in exactly one leaf; every node's box holds its children's.
+        std::vector<int> seen(lo.size(), 0);
+        for (std::size_t i = 0; i < bvh.node_count(); ++i) {
+            const detail::BvhNode& node = bvh.node(i);
+            if (node.count > 0) {
+                for (std::uint32_t k = 0; k < node.count; ++k) {
+                    const std::uint32_t item = bvh.item(node.first + k);
+                    ++seen[item];
+                    for (int a = 0; a < 3; ++a) {
+                        REQUIRE(node.box_lo(bvh.origin())[a] <= lo[item][a]);
+                        REQUIRE(node.box_hi(bvh.origin())[a] >= hi[item][a]);
+                    }
+                }
+                continue;
+            }
+            REQUIRE(node.first + 1 < bvh.node_count());
+            for (const std::size_t child : {std::size_t{node.first}, std::size_t{node.first} + 1})
+                for (int a = 0; a < 3; ++a) {
+                    REQUIRE(node.box_lo(bvh.origin())[a] <= bvh.node(child).box_lo(bvh.origin())[a]);
+                    REQUIRE(node.box_hi(bvh.origin())[a] >= bvh.node(child).box_hi(bvh.origin())[a]);
+                }
+        }
+        for (int s : seen) REQUIRE(s == 1);
     }
 }
