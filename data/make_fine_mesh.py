@@ -241,7 +241,11 @@ def main():
         i = args.index("--around")
         around = int(args[i + 1])
         del args[i:i + 2]
-    if len(args) != 1 or around < 8:
+    if args in (["-h"], ["--help"]):
+        print(__doc__)
+        sys.exit(0)
+    # An unknown option is not an output file name (`--help` once became one).
+    if len(args) != 1 or args[0].startswith("-") or around < 8:
         print(__doc__, file=sys.stderr)
         sys.exit(2)
     verts, normals, uvs, faces, nrows = build(around)
