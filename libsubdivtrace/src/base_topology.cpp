@@ -8,19 +8,9 @@
 
 namespace subdivtrace::detail {
 
-BaseTopology::BaseTopology(const Mesh& mesh) : mesh_(mesh) {
-    // Count, prefix-sum, fill: faces land in increasing order per vertex, and
-    // the arrays are allocated once at their final size.
+BaseTopology::BaseTopology(const Mesh& mesh)
+    : mesh_(mesh), faces_(mesh.triangles, mesh.positions.size()) {
     const std::size_t nv = mesh.positions.size();
-    vertex_offset_.assign(nv + 1, 0);
-    for (const Triangle& t : mesh.triangles)
-        for (std::uint32_t v : t) ++vertex_offset_[v + 1];
-    for (std::size_t v = 0; v < nv; ++v) vertex_offset_[v + 1] += vertex_offset_[v];
-    vertex_faces_.resize(vertex_offset_[nv]);
-    std::vector<std::uint32_t> fill(vertex_offset_.begin(), vertex_offset_.end() - 1);
-    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f)
-        for (std::uint32_t v : mesh.triangles[f]) vertex_faces_[fill[v]++] = f;
-
     // Closed: every edge, seen from each of its faces, has exactly two.
     for (const Triangle& t : mesh.triangles) {
         for (int c = 0; c < 3 && closed_; ++c)

@@ -11,24 +11,9 @@
 
 #include "node_address.h"
 #include "subdivtrace/mesh.h"
+#include "vertex_faces.h"
 
 namespace subdivtrace::detail {
-
-/// The faces around one base vertex: a view into BaseTopology's flat arrays
-/// (valid while the topology lives), in increasing face order.
-class FaceRange {
-public:
-    FaceRange(const std::uint32_t* begin, const std::uint32_t* end) : begin_(begin), end_(end) {}
-    const std::uint32_t* begin() const { return begin_; }
-    const std::uint32_t* end() const { return end_; }
-    std::size_t size() const { return static_cast<std::size_t>(end_ - begin_); }
-    bool empty() const { return begin_ == end_; }
-    std::uint32_t operator[](std::size_t k) const { return begin_[k]; }
-
-private:
-    const std::uint32_t* begin_;
-    const std::uint32_t* end_;
-};
 
 /// Base-mesh connectivity the grid needs: faces around each vertex and the
 /// faces on each (unordered) vertex pair. Stored as one flat list of faces per
@@ -49,10 +34,7 @@ public:
     void representations(const VertexKey& key, int level, std::vector<GridPoint>& out) const;
 
     /// The faces that have base vertex v as a corner, in increasing order.
-    FaceRange faces_of_vertex(std::uint32_t v) const {
-        return FaceRange(vertex_faces_.data() + vertex_offset_[v],
-                         vertex_faces_.data() + vertex_offset_[v + 1]);
-    }
+    FaceRange faces_of_vertex(std::uint32_t v) const { return faces_.faces_of(v); }
 
     /// Number of base triangles on the edge between base vertices u and w.
     std::size_t edge_face_count(std::uint32_t u, std::uint32_t w) const;
@@ -79,8 +61,7 @@ public:
 
     /// Heap bytes the topology holds (its arrays; the mesh is the caller's).
     std::size_t owned_bytes() const {
-        return vertex_offset_.capacity() * sizeof(std::uint32_t) +
-               vertex_faces_.capacity() * sizeof(std::uint32_t) + crease_mask_.capacity() +
+        return faces_.owned_bytes() + crease_mask_.capacity() +
                on_curve_.capacity() + given_vertex_.capacity() * sizeof(Vec3) +
                given_split_.capacity() * sizeof(GivenCorner);
     }
@@ -89,18 +70,11 @@ private:
     /// Calls visit(f) for every face on the edge {u, w}, in increasing order.
     template <class Visit>
     void for_each_face_of_edge(std::uint32_t u, std::uint32_t w, Visit visit) const {
-        // Through the endpoint with fewer faces; both lists ascend.
-        const bool through_u = faces_of_vertex(u).size() <= faces_of_vertex(w).size();
-        const std::uint32_t x = through_u ? u : w, y = through_u ? w : u;
-        for (std::uint32_t f : faces_of_vertex(x)) {
-            const Triangle& t = mesh_.triangles[f];
-            if (t[0] == y || t[1] == y || t[2] == y) visit(f);
-        }
+        faces_.for_each_face_of_edge(mesh_.triangles, u, w, visit);
     }
 
     const Mesh& mesh_;
-    std::vector<std::uint32_t> vertex_offset_;  ///< vertex count + 1 entries
-    std::vector<std::uint32_t> vertex_faces_;   ///< 3 per face
+    VertexFaces faces_;
     bool closed_ = true;
     std::vector<std::uint8_t> crease_mask_;  ///< empty when the mesh has no crease
     std::vector<std::uint8_t> on_curve_;  ///< empty when nothing is on a curve

@@ -1,29 +1,13 @@
 // Consistent winding by a breadth-first walk over manifold edges (orient.h).
 #include "orient.h"
 
+#include "vertex_faces.h"
+
 namespace subdivtrace {
 
 namespace {
 
 constexpr std::uint32_t k_none = ~std::uint32_t{0};
-
-/// The triangles at each vertex, in compressed rows (4 bytes per corner plus
-/// 4 per vertex: the walk below finds an edge's other triangle through them,
-/// a per-edge table would take three times the memory at a million triangles).
-struct VertexFaces {
-    std::vector<std::uint32_t> start;
-    std::vector<std::uint32_t> faces;
-
-    VertexFaces(const std::vector<Triangle>& triangles, std::size_t vertex_count)
-        : start(vertex_count + 1, 0), faces(3 * triangles.size()) {
-        for (const Triangle& t : triangles)
-            for (std::uint32_t v : t) ++start[v + 1];
-        for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        for (std::size_t t = 0; t < triangles.size(); ++t)
-            for (std::uint32_t v : triangles[t]) faces[fill[v]++] = static_cast<std::uint32_t>(t);
-    }
-};
 
 /// Position of `v` among t's corners (t holds it).
 int corner_of(const Triangle& t, std::uint32_t v) {
@@ -34,7 +18,9 @@ int corner_of(const Triangle& t, std::uint32_t v) {
 
 Orientation consistent_orientation(const std::vector<Triangle>& triangles,
                                    std::size_t vertex_count) {
-    const VertexFaces at(triangles, vertex_count);
+    // Faces per vertex, 4 bytes per corner: a table of every edge would take
+    // three times the memory at a million triangles.
+    const detail::VertexFaces at(triangles, vertex_count);
     const std::size_t n = triangles.size();
     Orientation out;
     out.flipped.assign(n, 0);
@@ -43,22 +29,13 @@ Orientation consistent_orientation(const std::vector<Triangle>& triangles,
     // triangles hold that edge, and whether it runs the edge the same way.
     const auto across = [&](std::uint32_t t, int c, bool& same_way) {
         const std::uint32_t a = triangles[t][c], b = triangles[t][(c + 1) % 3];
-        // Through the endpoint with fewer triangles.
-        const bool through_a = at.start[a + 1] - at.start[a] <= at.start[b + 1] - at.start[b];
-        const std::uint32_t x = through_a ? a : b, y = through_a ? b : a;
         std::uint32_t found = k_none, count = 0;
-        for (std::uint32_t k = at.start[x]; k < at.start[x + 1]; ++k) {
-            const std::uint32_t u = at.faces[k];
-            if (u == t) continue;
-            const Triangle& tri = triangles[u];
-            const int cx = corner_of(tri, x);
-            const bool x_to_y = tri[(cx + 1) % 3] == y;
-            if (!x_to_y && tri[(cx + 2) % 3] != y) continue;
-            if (++count > 1) return k_none;  // a non-manifold edge joins nothing
+        at.for_each_face_of_edge(triangles, a, b, [&](std::uint32_t u) {
+            if (u == t || ++count > 1) return;
             found = u;
-            same_way = x_to_y == through_a;  // u also runs a -> b
-        }
-        return found;
+            same_way = triangles[u][(corner_of(triangles[u], a) + 1) % 3] == b;  // u also runs a -> b
+        });
+        return count == 1 ? found : k_none;  // a non-manifold edge joins nothing
     };
 
     std::vector<std::uint8_t> reached(n, 0);
