@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <thread>
 
 #include <glm/common.hpp>
+
+#include "parallel.h"
 
 namespace subdivtrace::detail {
 
@@ -236,22 +237,13 @@ void Bvh::build(std::vector<Vec3> lo, std::vector<Vec3> hi, int max_leaf_size) {
     std::vector<BvhNode> left(1), right(1);
     left.reserve(2 * std::size_t{split});
     right.reserve(2 * std::size_t{n - split});
-    std::exception_ptr left_failure;
-    std::thread left_thread([&] {
-        try {
+    struct NoState {};
+    run_in_parallel<NoState>(2, [&](std::size_t half, NoState&) {
+        if (half == 0)
             Builder{lo, hi, left, items_, origin_, max_leaf_size}.run_from({0, 0, split, left_range});
-        } catch (...) {
-            left_failure = std::current_exception();
-        }
+        else
+            Builder{lo, hi, right, items_, origin_, max_leaf_size}.run_from({0, split, n, right_range});
     });
-    try {
-        Builder{lo, hi, right, items_, origin_, max_leaf_size}.run_from({0, split, n, right_range});
-    } catch (...) {
-        left_thread.join();
-        throw;
-    }
-    left_thread.join();
-    if (left_failure) std::rethrow_exception(left_failure);
     lo = std::vector<Vec3>();
     hi = std::vector<Vec3>();
     // Node 0 the root, 1 and 2 its children, then the left subtree's other

@@ -2,11 +2,8 @@
 #include "root_records.h"
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
-#include <mutex>
-#include <thread>
 
+#include "parallel.h"
 #include "patch_records.h"
 
 namespace subdivtrace::detail {
@@ -16,32 +13,6 @@ namespace {
 /// Base triangles whose level-0 records are computed from one patch.
 constexpr std::size_t k_root_chunk = 4096;
 constexpr std::uint32_t k_no_slot = ~std::uint32_t{0};
-
-/// Runs work(i, scratch) for i in [0, count) on up to one thread per core,
-/// each thread with its own scratch; rethrows the first exception.
-template <class Work>
-void run_in_parallel(std::size_t count, Work work) {
-    const std::size_t threads =
-        std::min<std::size_t>(count, std::max(1u, std::thread::hardware_concurrency()));
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    const auto worker = [&] {
-        BasePatchScratch scratch;
-        try {
-            for (std::size_t i; (i = next.fetch_add(1)) < count;) work(i, scratch);
-        } catch (...) {
-            const std::lock_guard<std::mutex> lock(failure_mutex);
-            if (!failure) failure = std::current_exception();
-            next = count;  // the others stop after their current item
-        }
-    };
-    std::vector<std::thread> pool;
-    for (std::size_t k = 1; k < threads; ++k) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
-}
 
 }  // namespace
 
@@ -71,7 +42,7 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     // mesh's construction peak.
     const std::size_t chunk_count = (face_count + k_root_chunk - 1) / k_root_chunk;
     std::vector<ChunkCorners> corners(chunk_count);
-    run_in_parallel(chunk_count, [&](std::size_t chunk, BasePatchScratch& scratch) {
+    run_in_parallel<BasePatchScratch>(chunk_count, [&](std::size_t chunk, BasePatchScratch& scratch) {
         build_chunk(ctx, chunk * k_root_chunk, std::min(face_count, (chunk + 1) * k_root_chunk),
                     first_slot, scratch, corners[chunk]);
     });
