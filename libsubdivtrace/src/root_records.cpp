@@ -12,7 +12,6 @@ namespace {
 
 /// Base triangles whose level-0 records are computed from one patch.
 constexpr std::size_t k_root_chunk = 4096;
-constexpr std::uint32_t k_no_slot = ~std::uint32_t{0};
 
 }  // namespace
 
@@ -26,17 +25,11 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     if (ctx.scheme == SchemeKind::loop) draw_.resize(vertex_count);
     shells_.resize(face_count);
 
-    // A vertex keeps the values of its first corner (the lowest slot 3f + c);
-    // the corners whose normals differ (across a crease) are kept apart.
-    // Knowing each vertex's first corner up front lets the chunks below run
-    // on several threads: each per-vertex value has exactly one writer.
-    std::vector<std::uint32_t> first_slot(vertex_count, k_no_slot);
-    for (std::size_t f = 0; f < face_count; ++f)
-        for (int c = 0; c < 3; ++c) {
-            std::uint32_t& first = first_slot[mesh_->triangles[f][c]];
-            if (first == k_no_slot) first = static_cast<std::uint32_t>(3 * f + c);
-        }
-
+    // A vertex keeps the values of its first corner, the one in its lowest
+    // face (the first of topo.faces_of_vertex); the corners whose normals
+    // differ (across a crease) are kept apart. Knowing that face up front
+    // lets the chunks below run on several threads: each per-vertex value
+    // has exactly one writer.
     // In chunks of base triangles, each with the border its records read:
     // the whole mesh at once made the base level's patch most of a large
     // mesh's construction peak.
@@ -44,7 +37,7 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     std::vector<ChunkCorners> corners(chunk_count);
     run_in_parallel<BasePatchScratch>(chunk_count, [&](std::size_t chunk, BasePatchScratch& scratch) {
         build_chunk(ctx, chunk * k_root_chunk, std::min(face_count, (chunk + 1) * k_root_chunk),
-                    first_slot, scratch, corners[chunk]);
+                    scratch, corners[chunk]);
     });
     // The corners a chunk could not compare (their vertex's first corner is
     // in an earlier chunk) are compared now; chunks and their lists are in
@@ -67,7 +60,6 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
 }
 
 void RootRecords::build_chunk(const TileContext& ctx, std::size_t first, std::size_t last,
-                              const std::vector<std::uint32_t>& first_slot,
                               BasePatchScratch& scratch, ChunkCorners& out) {
     std::vector<std::uint32_t> region;
     for (std::size_t f = first; f < last; ++f) region.push_back(static_cast<std::uint32_t>(f));
@@ -94,12 +86,13 @@ void RootRecords::build_chunk(const TileContext& ctx, std::size_t first, std::si
             const std::uint32_t v = p.verts[p.tris[t].v[c]].key.a;
             const std::uint32_t slot = 3 * f + static_cast<std::uint32_t>(c);
             const SplitCorner corner{slot, rec.normal[c], glm::vec3(rec.shading_normal[c])};
-            if (slot == first_slot[v]) {
+            const std::uint32_t first_face = ctx.topo.faces_of_vertex(v)[0];
+            if (f == first_face) {
                 normal_[v] = rec.normal[c];
                 shading_[v] = corner.shading;
                 displacement_[v] = rec.displacement[c];
                 if (!draw_.empty()) draw_[v] = rec.draw_position[c];
-            } else if (first_slot[v] / 3 < first) {
+            } else if (first_face < first) {
                 // Written by an earlier chunk. A vertex with one sector has
                 // the same normals at every corner (one sum over its whole
                 // ring, in canonical order), so only crease vertices wait:

@@ -54,10 +54,9 @@ private:
         bool linear_shading = false;
     };
     /// Records of base triangles [first, last): shells and edge normals, the
-    /// values of vertices whose first corner (first_slot) is among them.
+    /// values of vertices whose lowest face is among them.
     void build_chunk(const TileContext& ctx, std::size_t first, std::size_t last,
-                     const std::vector<std::uint32_t>& first_slot, BasePatchScratch& scratch,
-                     ChunkCorners& out);
+                     BasePatchScratch& scratch, ChunkCorners& out);
 };
 
 }  // namespace subdivtrace::detail
