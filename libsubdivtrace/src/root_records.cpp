@@ -105,14 +105,19 @@ void RootRecords::build_chunk(const TileContext& ctx, std::size_t first, std::si
     }
 }
 
+std::pair<const RootRecords::SplitCorner*, const RootRecords::SplitCorner*> RootRecords::splits_of(
+    std::uint32_t face) const {
+    const SplitCorner* begin = split_corners_.data();
+    const SplitCorner* end = begin + split_corners_.size();
+    const auto below = [](const SplitCorner& x, std::uint32_t slot) { return x.slot < slot; };
+    const SplitCorner* lo = std::lower_bound(begin, end, 3 * face, below);
+    return {lo, std::lower_bound(lo, end, 3 * face + 3, below)};
+}
+
 Vec3 RootRecords::corner_normal(std::uint32_t face, int c) const {
-    const std::uint32_t slot = 3 * face + static_cast<std::uint32_t>(c);
-    if (!split_corners_.empty()) {
-        const auto it = std::lower_bound(
-            split_corners_.begin(), split_corners_.end(), slot,
-            [](const SplitCorner& x, std::uint32_t s) { return x.slot < s; });
-        if (it != split_corners_.end() && it->slot == slot) return it->normal;
-    }
+    const auto [lo, hi] = splits_of(face);
+    for (const SplitCorner* it = lo; it != hi; ++it)
+        if (it->slot == 3 * face + static_cast<std::uint32_t>(c)) return it->normal;
     return normal_[mesh_->triangles[face][c]];
 }
 
@@ -137,10 +142,8 @@ NodeRecord RootRecords::record(std::uint32_t face) const {
     }
     rec.linear_shading = linear_shading_;
     if (!split_corners_.empty()) {
-        const auto lo = std::lower_bound(
-            split_corners_.begin(), split_corners_.end(), 3 * face,
-            [](const SplitCorner& x, std::uint32_t slot) { return x.slot < slot; });
-        for (auto it = lo; it != split_corners_.end() && it->slot < 3 * face + 3; ++it) {
+        const auto [lo, hi] = splits_of(face);
+        for (const SplitCorner* it = lo; it != hi; ++it) {
             rec.normal[it->slot - 3 * face] = it->normal;
             rec.shading_normal[it->slot - 3 * face] = Vec3(it->shading);
         }

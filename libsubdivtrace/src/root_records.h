@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -46,6 +47,8 @@ private:
         glm::vec3 shading;
     };
     std::vector<SplitCorner> split_corners_;
+    /// The split corners of base triangle `face` (its slots), ascending.
+    std::pair<const SplitCorner*, const SplitCorner*> splits_of(std::uint32_t face) const;
 
     /// What one chunk of base triangles leaves to be merged in slot order.
     struct ChunkCorners {
