@@ -1,12 +1,15 @@
 #include "subdivtrace/hierarchy.h"
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <utility>
 #include <vector>
 
 #include "base_topology.h"
+#include "face_chunks.h"
 #include "root_records.h"
 #include "tile.h"
 #include "tile_cache_impl.h"
@@ -32,9 +35,10 @@ struct FrontTally {
 /// at build time, before any other thread can see it) and its hierarchy's
 /// front tally.
 struct CachedTile {
-    CachedTile(const TileContext& ctx, const NodeId& root, const Patch* parent,
-               std::shared_ptr<FrontTally> tally)
-        : tile(ctx, root, parent), bytes(tile.bytes_when_complete()), front_tally(std::move(tally)) {}
+    /// `start`: the parent tile's last patch, or a chunk holding root's face.
+    template <class Start>
+    CachedTile(const TileContext& ctx, const NodeId& root, Start& start, std::shared_ptr<FrontTally> tally)
+        : tile(ctx, root, start), bytes(tile.bytes_when_complete()), front_tally(std::move(tally)) {}
     Tile tile;
     std::size_t bytes;
     std::shared_ptr<FrontTally> front_tally;
@@ -139,27 +143,62 @@ public:
     /// The tile from the shared cache, built by this thread if no other has
     /// it or is building it.
     std::shared_ptr<const CachedTile> tile(const NodeId& root) {
+        if (root.level == 0) return root_tile(root.face);
         return tiles.lookup_or_build(detail::TileKey{id, root}, share, [&] {
             // A child tile starts from its parent tile's last patch (rebuilt
             // in turn if it was evicted: values never depend on the cache).
-            std::shared_ptr<const CachedTile> parent;
-            if (root.level > 0) parent = tile(detail::parent_tile_root(root));
-            auto built = std::make_shared<const CachedTile>(
-                context, root, parent ? &parent->tile.last_patch() : nullptr, front_tally);
+            const std::shared_ptr<const CachedTile> parent = tile(detail::parent_tile_root(root));
+            auto built = std::make_shared<const CachedTile>(context, root, parent->tile.last_patch(),
+                                                            front_tally);
+            tiles_built.fetch_add(1, std::memory_order_relaxed);
             return std::make_pair(std::shared_ptr<const CachedTile>(built), built->bytes);
         });
+    }
+
+    /// The tile of base triangle `face`, built with the tiles of its chunk's
+    /// other faces that no thread has or builds: they share one subdivided
+    /// border instead of one each.
+    std::shared_ptr<const CachedTile> root_tile(std::uint32_t face) {
+        std::call_once(chunks_built, [&] {
+            chunks = std::make_unique<detail::FaceChunks>(topo, detail::k_face_chunk_size);
+            chunk_bytes.store(chunks->owned_bytes(), std::memory_order_relaxed);
+        });
+        thread_local std::vector<detail::TileKey> group;
+        group.clear();
+        const auto [begin, end] = chunks->chunk_of(face);
+        for (const std::uint32_t* f = begin; f != end; ++f) group.push_back(detail::TileKey{id, root_node(*f)});
+        return tiles.lookup_or_build_group(
+            detail::TileKey{id, root_node(face)}, group, share, [&](const std::vector<detail::TileKey>& claimed) {
+                std::vector<std::uint32_t> faces;
+                for (const detail::TileKey& k : claimed) faces.push_back(k.root.face);
+                std::sort(faces.begin(), faces.end());
+                detail::RootChunk chunk(context, faces.data(), faces.size());
+                std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
+                for (const detail::TileKey& k : claimed) {
+                    auto t = std::make_shared<const CachedTile>(context, k.root, chunk, front_tally);
+                    built.emplace_back(t, t->bytes);
+                }
+                chunk.share();  // before any other thread can see the tiles
+                tiles_built.fetch_add(built.size(), std::memory_order_relaxed);
+                return built;
+            });
     }
 
     /// Never reused, so keys and fronts cannot confuse two hierarchies.
     const std::uint64_t id = g_next_hierarchy_id.fetch_add(1);
 
     std::atomic<std::uint64_t> nodes_built{0};
+    std::atomic<std::uint64_t> tiles_built{0};
     /// Time spent building tiles, their lazy levels and the frontiers child
     /// tiles start from (not waiting for another thread), summed over threads.
     std::atomic<std::uint64_t> tile_build_ns{0};
     detail::BaseTopology topo;
     detail::TileContext context;
     detail::RootRecords roots;
+    /// Base faces by chunk, made when the first base triangle's tile is.
+    std::once_flag chunks_built;
+    std::unique_ptr<detail::FaceChunks> chunks;
+    std::atomic<std::size_t> chunk_bytes{0};  ///< for counters(), which may run meanwhile
     std::shared_ptr<TileCache> cache;
     detail::TileCacheImpl& tiles;
     /// This hierarchy's share of the cache (its entries point here).
@@ -207,13 +246,14 @@ HierarchyCounters Hierarchy::counters() const {
     const detail::CacheOwnerTally& t = impl_->share;
     HierarchyCounters c;
     c.nodes_built = impl_->nodes_built.load();
+    c.tiles_built = impl_->tiles_built.load();
     c.tile_build_seconds = static_cast<double>(impl_->tile_build_ns.load()) * 1e-9;
     c.node_hits = t.hits.load(std::memory_order_relaxed);
     c.node_misses = t.misses.load(std::memory_order_relaxed);
     c.evictions = t.evictions.load(std::memory_order_relaxed);
     c.bytes = t.bytes.load(std::memory_order_relaxed);
     c.peak_bytes = t.peak_bytes.load(std::memory_order_relaxed);
-    c.topology_bytes = impl_->topo.owned_bytes();
+    c.topology_bytes = impl_->topo.owned_bytes() + impl_->chunk_bytes.load(std::memory_order_relaxed);
     c.root_bytes = impl_->roots.owned_bytes();
     c.fronts = impl_->front_tally->fronts.load(std::memory_order_relaxed);
     c.front_bytes = c.fronts * sizeof(Front) +

@@ -16,7 +16,7 @@
 #include <future>
 #include <list>
 #include <mutex>
-#include <optional>
+#include <stdexcept>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -80,10 +80,23 @@ public:
     /// exception it throws reaches every waiting thread and nothing is cached.
     template <class Build>
     Value lookup_or_build(const Key& key, CacheOwnerTally& owner, Build&& build) {
+        return lookup_or_build_group(key, {}, owner, [&](const std::vector<Key>&) {
+            return std::vector<std::pair<Value, std::size_t>>{build()};
+        });
+    }
+
+    /// As lookup_or_build, for a value best built together with others (a
+    /// base triangle's tile with its chunk's): on a miss, the keys of `group`
+    /// that are neither cached nor being built are claimed as well (a thread
+    /// asking for one of them waits for this build), and build(claimed)
+    /// returns a value and its bytes for each claimed key, in order; `key`
+    /// is claimed[0].
+    template <class Build>
+    Value lookup_or_build_group(const Key& key, const std::vector<Key>& group, CacheOwnerTally& owner,
+                                Build&& build) {
         Shard& s = shard_for(key);
         std::shared_future<Value> other_build;
-        // Made on a miss only: a promise allocates its shared state.
-        std::optional<std::promise<Value>> promise;
+        std::vector<std::promise<Value>> promises;
         {
             std::lock_guard<std::mutex> lock(s.mutex);
             auto it = s.map.find(key);
@@ -101,28 +114,47 @@ public:
             } else {
                 ++s.misses;
                 owner.misses.fetch_add(1, std::memory_order_relaxed);
-                promise.emplace();
-                s.pending.emplace(key, promise->get_future().share());
+                // A promise allocates its shared state: made on a miss only.
+                promises.emplace_back();
+                s.pending.emplace(key, promises[0].get_future().share());
             }
         }
         if (other_build.valid()) return other_build.get();
 
-        std::pair<Value, std::size_t> built;
+        // This thread builds `key`, and the group's keys nobody has or builds.
+        std::vector<Key> claimed{key};
+        for (const Key& k : group) {
+            if (k == key) continue;
+            Shard& g = shard_for(k);
+            std::lock_guard<std::mutex> lock(g.mutex);
+            if (g.map.count(k) != 0 || g.pending.count(k) != 0) continue;
+            promises.emplace_back();
+            g.pending.emplace(k, promises.back().get_future().share());
+            claimed.push_back(k);
+        }
+        std::vector<std::pair<Value, std::size_t>> built;
         try {
-            built = build();
+            built = build(claimed);
+            if (built.size() != claimed.size()) throw std::logic_error("cache: a group build returned a wrong count");
         } catch (...) {
-            {
-                std::lock_guard<std::mutex> lock(s.mutex);
-                s.pending.erase(key);
+            for (std::size_t k = 0; k < claimed.size(); ++k) {
+                Shard& g = shard_for(claimed[k]);
+                {
+                    std::lock_guard<std::mutex> lock(g.mutex);
+                    g.pending.erase(claimed[k]);
+                }
+                promises[k].set_exception(std::current_exception());
             }
-            promise->set_exception(std::current_exception());
             throw;
         }
-        promise->set_value(built.first);
-        std::lock_guard<std::mutex> lock(s.mutex);
-        s.pending.erase(key);
-        insert_locked(s, key, built.first, built.second, owner);
-        return built.first;
+        for (std::size_t k = 0; k < claimed.size(); ++k) {
+            promises[k].set_value(built[k].first);
+            Shard& g = shard_for(claimed[k]);
+            std::lock_guard<std::mutex> lock(g.mutex);
+            g.pending.erase(claimed[k]);
+            insert_locked(g, claimed[k], built[k].first, built[k].second, owner);
+        }
+        return built[0].first;
     }
 
     /// Drops every entry charged to `owner` (not counted as evictions). No
@@ -216,6 +248,7 @@ private:
         const std::size_t h = Hash{}(key);
         return shards_[(h >> 7) % shards_.size()];
     }
+    const Shard& shard_for(const Key& key) const { return const_cast<ShardedLruCache*>(this)->shard_for(key); }
 
     std::vector<Shard> shards_;
     std::atomic<std::size_t> budget_{0};

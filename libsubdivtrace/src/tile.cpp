@@ -65,24 +65,54 @@ std::size_t Tile::index_in_level(const NodeId& id) const {
 
 NodeId parent_tile_root(const NodeId& root) { return ancestor_at(root, root.level - k_tile_depth); }
 
-Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch)
+Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch& parent_patch)
     : ctx_(&ctx), root_(root), levels_(std::min(k_tile_depth, ctx.max_level - root.level)) {
     depth_ = static_cast<int>(levels_.size());
     const BuildTimer timer(ctx.build_ns);
-    // The root's children and their border: cut from the parent tile's last
-    // patch, or subdivided from the base triangles around the root.
-    if (parent_patch) {
-        frontier_ = Patch::copy_of(*parent_patch,
-                                   parent_patch->band([&](const NodeId& id) { return in_tile(id); }));
-    } else {
-        Patch p = base_patch(ctx.topo, &root.face, 1);
-        p.finish(ctx.topo, ctx.scheme);
-        if (ctx.roots) ctx.roots->lend_normals(p);
-        std::vector<bool> kept;
-        frontier_ = p.subdivide_band(ctx.topo, ctx.scheme, [&](const NodeId& id) { return in_tile(id); }, kept);
-        frontier_.keep_only(kept);
-    }
+    // The root's children and their border, cut from the parent tile's last patch.
+    frontier_ = Patch::copy_of(parent_patch, parent_patch.band([&](const NodeId& id) { return in_tile(id); }));
     build_level(1);
+}
+
+RootChunk::RootChunk(const TileContext& ctx, const std::uint32_t* faces, std::size_t count)
+    : level1_(std::make_shared<Patch>()), faces_(count) {
+    const BuildTimer timer(ctx.build_ns);
+    const auto in_chunk = [&](const NodeId& id) { return std::binary_search(faces, faces + count, id.face); };
+    Patch base = base_patch(ctx.topo, faces, count);
+    base.finish(ctx.topo, ctx.scheme);
+    if (ctx.roots) ctx.roots->lend_normals(base);
+    Patch& q = *level1_;
+    std::vector<bool> kept;
+    q = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
+    q.keep_only(kept);
+    q.finish(ctx.topo, ctx.scheme);
+    std::vector<bool> region(q.tris.size());
+    for (std::size_t t = 0; t < region.size(); ++t) region[t] = in_chunk(q.tris[t].id);
+    const std::vector<bool> needed = q.points_around(region);
+    next_ = q.next_positions(ctx.topo, ctx.scheme, &needed);
+    memo_ = std::make_unique<ShadingMemo>(q);
+}
+
+RootChunk::~RootChunk() = default;
+
+void RootChunk::share() {
+    memo_.reset();
+    next_ = Patch();
+    level1_->drop_derived();
+}
+
+Tile::Tile(const TileContext& ctx, const NodeId& root, RootChunk& chunk)
+    : ctx_(&ctx), root_(root), levels_(std::min(k_tile_depth, ctx.max_level - root.level)) {
+    depth_ = static_cast<int>(levels_.size());
+    const BuildTimer timer(ctx.build_ns);
+    Patch& q = *chunk.level1_;
+    // Every level-1 triangle of the root's face is in its tile.
+    std::vector<bool> in_this_tile(q.tris.size());
+    for (std::size_t t = 0; t < q.tris.size(); ++t) in_this_tile[t] = q.tris[t].id.face == root.face;
+    fill_level(1, q, chunk.next_, *chunk.memo_, in_this_tile);
+    shared_frontier_ = chunk.level1_;
+    shared_by_ = chunk.faces_;
+    ready_.store(1, std::memory_order_release);
 }
 
 bool Tile::in_tile(const NodeId& id) const {
@@ -94,6 +124,12 @@ void Tile::advance_frontier() {
     // border: the next level's start, or after the deepest level where
     // child tiles start (its positions are recomputed here from scratch, as
     // only a tile that goes deeper pays for that level's topology).
+    if (shared_frontier_) {
+        // The frontier a lone tile would have kept: its triangles and their border.
+        const Patch& shared = *shared_frontier_;
+        frontier_ = Patch::copy_of(shared, shared.band([&](const NodeId& id) { return in_tile(id); }));
+        shared_frontier_.reset();
+    }
     Patch& q = frontier_;
     q.finish(ctx_->topo, ctx_->scheme);
     std::vector<bool> kept;
@@ -116,6 +152,15 @@ void Tile::build_level(int j) {
     // the rule would have refined it.
     const std::vector<bool> needed = q.points_around(in_this_tile);
     const Patch next = q.next_positions(ctx_->topo, ctx_->scheme, &needed);
+    ShadingMemo memo(q);
+    fill_level(j, q, next, memo, in_this_tile);
+    // Waits, without rings and edges, for the next level or child tiles.
+    q.drop_derived();
+    ready_.store(j, std::memory_order_release);
+}
+
+void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
+                      const std::vector<bool>& in_this_tile) {
     TileLevel& out = levels_[j - 1];
     const std::size_t n = std::size_t{1} << j;
     out.position.resize((n + 1) * (n + 2) / 2);
@@ -126,7 +171,6 @@ void Tile::build_level(int j) {
     if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.position.size());
     out.shells.resize(n * n);
     std::vector<Shell> shells(n * n);
-    ShadingMemo memo(q);
     for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
         if (!in_this_tile[t]) continue;
         const PatchTriangle& tri = q.tris[t];
@@ -148,10 +192,7 @@ void Tile::build_level(int j) {
     // Shells relative to a point of the tile: its first grid point at level 1.
     if (j == 1) origin_ = out.position[0];
     for (std::size_t k = 0; k < shells.size(); ++k) out.shells[k] = CompactShell::from(shells[k], origin_);
-    // Waits, without rings and edges, for the next level or child tiles.
-    q.drop_derived();
     ctx_->records_built->fetch_add(out.shells.size(), std::memory_order_relaxed);
-    ready_.store(j, std::memory_order_release);
 }
 
 std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, int e) const {
@@ -257,7 +298,13 @@ const Patch& Tile::last_patch() const {
 }
 
 std::size_t Tile::bytes_when_complete() const {
-    std::size_t bytes = sizeof(Tile) + levels_.capacity() * sizeof(TileLevel) + 2 * frontier_.owned_bytes();
+    // A shared frontier is charged by share (without rings and edges, which
+    // its chunk drops once every tile is built).
+    const std::size_t frontier_bytes =
+        shared_frontier_ ? (shared_frontier_->verts.size() * sizeof(PatchVertex) +
+                            shared_frontier_->tris.size() * sizeof(PatchTriangle)) / shared_by_
+                         : frontier_.owned_bytes();
+    std::size_t bytes = sizeof(Tile) + levels_.capacity() * sizeof(TileLevel) + 2 * frontier_bytes;
     const std::size_t per_vertex = (ctx_->scheme == SchemeKind::loop ? 3 : 2) * sizeof(Vec3) +
                                    4 * sizeof(glm::vec3) + sizeof(float);
     for (int j = 1; j <= depth_; ++j) {

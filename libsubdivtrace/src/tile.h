@@ -25,6 +25,7 @@ namespace subdivtrace::detail {
 constexpr int k_tile_depth = 3;
 
 class RootRecords;
+struct ShadingMemo;
 
 /// What a tile build needs to know of the hierarchy.
 struct TileContext {
@@ -40,6 +41,31 @@ struct TileContext {
     /// The base level's records once they are built: a base triangle's tile
     /// takes its level-0 normals from them instead of recomputing them.
     const RootRecords* roots = nullptr;
+};
+
+/// The first level below a chunk of base triangles (face_chunks.h), computed
+/// once for all their tiles: the chunk's level-1 triangles with their border,
+/// finished, and the level-2 points their records read. Each tile of the
+/// chunk takes its records and its frontier from it, with the same bits it
+/// would compute alone (every value is summed in canonical order).
+class RootChunk {
+public:
+    /// `faces`: `count` base triangles, ascending.
+    RootChunk(const TileContext& ctx, const std::uint32_t* faces, std::size_t count);
+    ~RootChunk();
+    RootChunk(const RootChunk&) = delete;
+    RootChunk& operator=(const RootChunk&) = delete;
+    /// Call once every tile of the chunk is built and before another thread
+    /// can see them: their frontiers share the level-1 patch from now on,
+    /// without rings and edges.
+    void share();
+
+private:
+    friend class Tile;
+    std::shared_ptr<Patch> level1_;
+    std::size_t faces_ = 0;
+    Patch next_;
+    std::unique_ptr<ShadingMemo> memo_;
 };
 
 /// One level of a tile: vertex values on the root's sub-grid of resolution
@@ -62,10 +88,12 @@ struct TileLevel {
 /// level's points around it, not that level's topology).
 class Tile {
 public:
-    /// `parent_patch`: the last patch of the tile whose deepest level holds
-    /// `root`, one level below it (nullptr for a base triangle's tile).
+    /// A tile below a tile: `parent_patch` is the last patch of the tile
+    /// whose deepest level holds `root` (level >= 1), one level below it.
     /// `ctx` must outlive the tile.
-    Tile(const TileContext& ctx, const NodeId& root, const Patch* parent_patch);
+    Tile(const TileContext& ctx, const NodeId& root, const Patch& parent_patch);
+    /// A base triangle's tile (`root` a level-0 node of one of `chunk`'s faces).
+    Tile(const TileContext& ctx, const NodeId& root, RootChunk& chunk);
 
 
     /// The record of descendant `id` (root.level < id.level <= root.level + depth),
@@ -102,6 +130,11 @@ private:
                                           const GridPoint& q) const;
     NodeRecord assemble(const TileLevel& level, const NodeId& id) const;
     void build_level(int j);
+    /// Level j's records (levels_[j - 1]) from its patch `q` (finished, the
+    /// tile's triangles flagged in `in_this_tile`) and the next level's
+    /// points around them.
+    void fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
+                    const std::vector<bool>& in_this_tile);
     void ensure_level(int j) const;
     /// Splits the frontier (the last built level) into the next level's
     /// tile triangles and their border.
@@ -115,6 +148,11 @@ private:
     /// The deepest level built (without rings and edges), or once
     /// last_patch() was asked for, the level below the tile.
     Patch frontier_;
+    /// A base triangle's tile starts with its chunk's level-1 patch as its
+    /// frontier, shared with the chunk's other tiles (most never go deeper),
+    /// and cuts its own from it when it does.
+    std::shared_ptr<const Patch> shared_frontier_;
+    std::size_t shared_by_ = 1;  ///< tiles sharing it
     mutable std::mutex mutex_;
     mutable std::atomic<int> ready_{0};
     mutable std::atomic<bool> last_ready_{false};

@@ -22,6 +22,7 @@ TileCacheStats TileCache::stats() const {
     s.hits = c.hits;
     s.misses = c.misses;
     s.waits = c.waits;
+    s.insertions = c.insertions;
     s.duplicate_builds = c.duplicate_builds;
     s.evictions = c.evictions;
     s.surfaces = impl_->surfaces.load(std::memory_order_relaxed);

@@ -609,6 +609,7 @@ SurfaceStats AdaptiveSurface::stats() const {
     s.trace.cache_hits = h.node_hits;
     s.trace.cache_misses = h.node_misses;
     s.nodes_built = h.nodes_built;
+    s.tiles_built = h.tiles_built;
     s.tile_build_seconds = h.tile_build_seconds;
     s.cache_evictions = h.evictions;
     s.cache_bytes = h.bytes;

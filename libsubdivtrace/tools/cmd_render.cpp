@@ -117,7 +117,7 @@ std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& r
         // What a node costs to build, and (exact while nothing was evicted,
         // when every node built is in the cache) to keep.
         const double nodes = std::max<double>(1.0, static_cast<double>(ss->nodes_built));
-        j << "  \"tiles_built\": " << ss->trace.cache_misses << ", \"tile_build_seconds\": "
+        j << "  \"tiles_built\": " << ss->tiles_built << ", \"tile_build_seconds\": "
           << ss->tile_build_seconds << ", \"ns_per_node_built\": "
           << ss->tile_build_seconds * 1e9 / nodes << ",\n";
         j << "  \"cache_peak_bytes_per_node_built\": "

@@ -199,8 +199,13 @@ TEST_CASE("lookup_or_build builds each tile once however many threads ask at onc
     for (std::thread& t : threads) t.join();
     const TileCacheStats c = cache->stats();
     const HierarchyCounters h = shared.counters();
-    CHECK(c.misses == truth.node_misses);  // every tile built exactly once
-    CHECK(h.node_misses == truth.node_misses);
+    // Every tile built exactly once. A miss on a base triangle's tile builds
+    // its chunk's other tiles too, unless another thread builds them, so the
+    // misses themselves depend on timing: tiles built and insertions do not.
+    CHECK(h.tiles_built == truth.tiles_built);
+    CHECK(c.insertions == truth.tiles_built);
+    CHECK(h.node_misses == c.misses);
+    CHECK(c.misses <= truth.tiles_built);
     CHECK(h.nodes_built == truth.nodes_built);
     CHECK(c.duplicate_builds == 0);
     CHECK(c.evictions == 0);

@@ -53,6 +53,9 @@ struct NodeRecord {
 
 struct HierarchyCounters {
     std::uint64_t nodes_built = 0;  ///< node records computed (tiles x their nodes)
+    /// Tiles built: the cache's misses, plus the tiles built alongside a
+    /// base triangle's (its chunk's, docs/tracer.md).
+    std::uint64_t tiles_built = 0;
     /// Seconds spent building tiles, summed over threads: a tile's own work
     /// (its construction, the levels it builds on first use, the frontier a
     /// child tile starts from), not waiting for another thread.
@@ -61,7 +64,7 @@ struct HierarchyCounters {
     /// thread building it). This hierarchy's own, whoever shares the cache;
     /// so are the counters below.
     std::uint64_t node_hits = 0;
-    std::uint64_t node_misses = 0;  ///< tile cache misses (tiles built)
+    std::uint64_t node_misses = 0;  ///< tile cache misses
     std::uint64_t evictions = 0;    ///< its tiles dropped from the cache to keep the cache's budget
     std::size_t bytes = 0;          ///< what its tiles in the cache are charged now
     std::size_t peak_bytes = 0;     ///< the most its tiles were charged at once

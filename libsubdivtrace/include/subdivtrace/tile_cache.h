@@ -31,7 +31,10 @@ struct TileCacheStats {
     /// or below the budget, but for the few tiles every shard keeps.
     std::size_t peak_bytes = 0;
     std::uint64_t hits = 0;       ///< lookups that found the tile ready
-    std::uint64_t misses = 0;     ///< lookups that built the tile (tiles built)
+    std::uint64_t misses = 0;     ///< lookups that built the tile
+    /// Tiles built and cached: the misses' tiles, and the tiles of a base
+    /// triangle's chunk built with it (docs/tracer.md).
+    std::uint64_t insertions = 0;
     /// Lookups that found the tile being built by another thread and waited
     /// for it (each would have been a duplicate build without the wait).
     std::uint64_t waits = 0;

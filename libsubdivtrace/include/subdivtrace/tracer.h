@@ -177,8 +177,9 @@ struct SurfaceMemory {
 struct SurfaceStats {
     TraceCounters trace;
     std::uint64_t nodes_built = 0;
-    /// Time constructing this surface's tiles (trace.cache_misses of them),
-    /// summed over threads.
+    std::uint64_t tiles_built = 0;  ///< HierarchyCounters::tiles_built
+    /// Time constructing this surface's tiles (tiles_built of them), summed
+    /// over threads.
     double tile_build_seconds = 0.0;
     /// This surface's tiles dropped from the cache to keep the cache within
     /// its budget (each tile is one entry holding up to 84 node records; see

@@ -1,0 +1,138 @@
+// Base triangles' tiles are built by chunks (face_chunks.h, tile.h
+// RootChunk): a chunk is a connected group of faces, and a tile built with
+// its chunk must hold exactly the bits it holds when built alone, or the two
+// sides of an edge between tiles of different chunks would not meet.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <vector>
+
+#include "face_chunks.h"
+#include "root_records.h"
+#include "subdivtrace/uniform.h"
+#include "test_meshes.h"
+#include "tile.h"
+
+using namespace subdivtrace;
+using namespace subdivtrace::detail;
+
+namespace {
+
+/// Two meshes of several chunks: a closed irregular one and an open,
+/// creased one with two components.
+std::vector<std::pair<const char*, Mesh>> chunked_meshes() {
+    Mesh two_parts = to_mesh(subdivide_uniform(testmesh::faceted_cube(), SchemeKind::normal, 1));
+    const Mesh grid = testmesh::open_grid(6);
+    const auto offset = static_cast<std::uint32_t>(two_parts.positions.size());
+    for (const Vec3& p : grid.positions) two_parts.positions.push_back(p + Vec3(3.0, 0.0, 0.0));
+    for (Triangle t : grid.triangles) {
+        for (auto& v : t) v += offset;
+        two_parts.triangles.push_back(t);
+    }
+    return {{"irregular, level 1", to_mesh(subdivide_uniform(testmesh::irregular_closed(5), SchemeKind::normal, 1))},
+            {"creased cube and open grid", two_parts}};
+}
+
+bool same(const NodeRecord& a, const NodeRecord& b) {
+    bool eq = a.linear_shading == b.linear_shading && a.shell.lo == b.shell.lo && a.shell.hi == b.shell.hi &&
+              a.shell.axis == b.shell.axis && a.shell.slab_min == b.shell.slab_min && a.shell.slab_max == b.shell.slab_max;
+    for (int c = 0; c < 3; ++c)
+        eq = eq && a.position[c] == b.position[c] && a.normal[c] == b.normal[c] &&
+             a.draw_position[c] == b.draw_position[c] && a.shading_normal[c] == b.shading_normal[c] &&
+             a.edge_normal[c] == b.edge_normal[c] && a.displacement[c] == b.displacement[c];
+    return eq;
+}
+
+/// Every descendant of `root` at levels root.level + 1 .. root.level + depth.
+template <class Visit>
+void for_each_descendant(const NodeId& root, int depth, Visit visit) {
+    std::vector<NodeId> level{root};
+    for (int d = 1; d <= depth; ++d) {
+        std::vector<NodeId> next;
+        for (const NodeId& id : level)
+            for (int c = 0; c < 4; ++c) next.push_back(child_of(id, c));
+        for (const NodeId& id : next) visit(id);
+        level = std::move(next);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("face chunks partition the base faces into small connected groups", "[hierarchy]") {
+    for (const auto& [name, mesh] : chunked_meshes()) {
+        INFO(name);
+        const BaseTopology topo(mesh);
+        for (std::size_t size : {std::size_t{1}, std::size_t{5}, k_face_chunk_size}) {
+            const FaceChunks chunks(topo, size);
+            CHECK(chunks.chunk_count() >= (mesh.triangles.size() + size - 1) / size);
+            std::vector<int> seen(mesh.triangles.size(), 0);
+            for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+                const auto [begin, end] = chunks.chunk_of(f);
+                const std::vector<std::uint32_t> members(begin, end);
+                REQUIRE(!members.empty());
+                CHECK(members.size() <= size);
+                CHECK(std::is_sorted(members.begin(), members.end()));
+                CHECK(std::count(members.begin(), members.end(), f) == 1);
+                if (members.front() == f) ++seen[f];  // count each chunk once, by its first face
+                for (std::uint32_t g : members) {
+                    const auto [b2, e2] = chunks.chunk_of(g);
+                    CHECK(std::vector<std::uint32_t>(b2, e2) == members);  // one chunk per face
+                }
+                // Connected through shared vertices.
+                std::vector<std::uint32_t> reached{members.front()};
+                for (std::size_t k = 0; k < reached.size(); ++k)
+                    for (std::uint32_t g : members) {
+                        if (std::count(reached.begin(), reached.end(), g)) continue;
+                        bool touches = false;
+                        for (std::uint32_t v : mesh.triangles[reached[k]])
+                            for (std::uint32_t w : mesh.triangles[g]) touches = touches || v == w;
+                        if (touches) reached.push_back(g);
+                    }
+                CHECK(reached.size() == members.size());
+            }
+            std::size_t chunk_firsts = 0;
+            for (int s : seen) chunk_firsts += static_cast<std::size_t>(s);
+            CHECK(chunk_firsts == chunks.chunk_count());
+        }
+    }
+}
+
+TEST_CASE("a base triangle's tile holds the same bits built alone or with its chunk", "[hierarchy]") {
+    for (const auto& [name, mesh] : chunked_meshes()) {
+        const BaseTopology topo(mesh);
+        const FaceChunks chunks(topo, k_face_chunk_size);
+        for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
+            INFO(name << ", " << scheme_name(scheme));
+            std::atomic<std::uint64_t> records{0}, ns{0};
+            TileContext ctx{topo, scheme, ShellKind::aabb_slab, 6, &records, &ns};
+            const RootRecords roots(ctx);
+            ctx.roots = &roots;
+            std::size_t compared = 0, differing = 0;
+            for (std::uint32_t face = 0; face < mesh.triangles.size(); face += 3) {
+                const auto [begin, end] = chunks.chunk_of(face);
+                RootChunk alone_chunk(ctx, &face, 1);
+                RootChunk whole_chunk(ctx, begin, static_cast<std::size_t>(end - begin));
+                const NodeId root = root_node(face);
+                const Tile alone(ctx, root, alone_chunk);
+                const Tile with_chunk(ctx, root, whole_chunk);
+                alone_chunk.share();
+                whole_chunk.share();
+                for_each_descendant(root, 3, [&](const NodeId& id) {
+                    ++compared;
+                    if (!same(alone.record(id), with_chunk.record(id))) ++differing;
+                });
+                // Child tiles start from the two tiles' last patches.
+                const NodeId child_root = child_of(child_of(child_of(root, 1), 3), 0);
+                const Tile child_alone(ctx, child_root, alone.last_patch());
+                const Tile child_with_chunk(ctx, child_root, with_chunk.last_patch());
+                for_each_descendant(child_root, 2, [&](const NodeId& id) {
+                    ++compared;
+                    if (!same(child_alone.record(id), child_with_chunk.record(id))) ++differing;
+                });
+            }
+            CHECK(compared > 0);
+            CHECK(differing == 0);
+        }
+    }
+}
