@@ -35,10 +35,8 @@ struct FrontTally {
 /// at build time, before any other thread can see it) and its hierarchy's
 /// front tally.
 struct CachedTile {
-    /// `start`: the parent tile's last patch, or a chunk holding root's face.
-    template <class Start>
-    CachedTile(const TileContext& ctx, const NodeId& root, Start& start, std::shared_ptr<FrontTally> tally)
-        : tile(ctx, root, start), bytes(tile.bytes_when_complete()), front_tally(std::move(tally)) {}
+    CachedTile(const TileContext& ctx, const NodeId& root, TileGroup& group, std::shared_ptr<FrontTally> tally)
+        : tile(ctx, root, group), bytes(tile.bytes_when_complete()), front_tally(std::move(tally)) {}
     Tile tile;
     std::size_t bytes;
     std::shared_ptr<FrontTally> front_tally;
@@ -141,47 +139,49 @@ public:
     }
 
     /// The tile from the shared cache, built by this thread if no other has
-    /// it or is building it.
+    /// it or is building it, with the tiles of its group that no thread has
+    /// or builds: a group shares one subdivided border instead of one each
+    /// (tile.h, TileGroup).
     std::shared_ptr<const CachedTile> tile(const NodeId& root) {
-        if (root.level == 0) return root_tile(root.face);
-        return tiles.lookup_or_build(detail::TileKey{id, root}, share, [&] {
-            // A child tile starts from its parent tile's last patch (rebuilt
-            // in turn if it was evicted: values never depend on the cache).
-            const std::shared_ptr<const CachedTile> parent = tile(detail::parent_tile_root(root));
-            auto built = std::make_shared<const CachedTile>(context, root, parent->tile.last_patch(),
-                                                            front_tally);
-            tiles_built.fetch_add(1, std::memory_order_relaxed);
-            return std::make_pair(std::shared_ptr<const CachedTile>(built), built->bytes);
-        });
-    }
-
-    /// The tile of base triangle `face`, built with the tiles of its chunk's
-    /// other faces that no thread has or builds: they share one subdivided
-    /// border instead of one each.
-    std::shared_ptr<const CachedTile> root_tile(std::uint32_t face) {
-        std::call_once(chunks_built, [&] {
-            chunks = std::make_unique<detail::FaceChunks>(topo, detail::k_face_chunk_size);
-            chunk_bytes.store(chunks->owned_bytes(), std::memory_order_relaxed);
-        });
-        thread_local std::vector<detail::TileKey> group;
-        group.clear();
-        const auto [begin, end] = chunks->chunk_of(face);
-        for (const std::uint32_t* f = begin; f != end; ++f) group.push_back(detail::TileKey{id, root_node(*f)});
-        return tiles.lookup_or_build_group(
-            detail::TileKey{id, root_node(face)}, group, share, [&](const std::vector<detail::TileKey>& claimed) {
+        const auto group = [&] {
+            std::vector<detail::TileKey> keys;
+            if (root.level == 0) {
+                std::call_once(chunks_built, [&] {
+                    chunks = std::make_unique<detail::FaceChunks>(topo, detail::k_face_chunk_size);
+                    chunk_bytes.store(chunks->owned_bytes(), std::memory_order_relaxed);
+                });
+                const auto [begin, end] = chunks->chunk_of(root.face);
+                for (const std::uint32_t* f = begin; f != end; ++f) keys.push_back({id, root_node(*f)});
+            } else {
+                for (const NodeId& r : detail::tile_group_of(root)) keys.push_back({id, r});
+            }
+            return keys;
+        };
+        const auto build = [&](const std::vector<detail::TileKey>& claimed) {
+            std::vector<NodeId> roots;
+            for (const detail::TileKey& k : claimed) roots.push_back(k.root);
+            std::unique_ptr<detail::TileGroup> start;
+            if (root.level == 0) {
                 std::vector<std::uint32_t> faces;
-                for (const detail::TileKey& k : claimed) faces.push_back(k.root.face);
+                for (const NodeId& r : roots) faces.push_back(r.face);
                 std::sort(faces.begin(), faces.end());
-                detail::RootChunk chunk(context, faces.data(), faces.size());
-                std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
-                for (const detail::TileKey& k : claimed) {
-                    auto t = std::make_shared<const CachedTile>(context, k.root, chunk, front_tally);
-                    built.emplace_back(t, t->bytes);
-                }
-                chunk.share();  // before any other thread can see the tiles
-                tiles_built.fetch_add(built.size(), std::memory_order_relaxed);
-                return built;
-            });
+                start = std::make_unique<detail::TileGroup>(context, faces.data(), faces.size());
+            } else {
+                // Tiles below a tile start from its last patch (the parent is
+                // rebuilt in turn if it was evicted: values never depend on the cache).
+                const std::shared_ptr<const CachedTile> parent = tile(detail::parent_tile_root(root));
+                start = std::make_unique<detail::TileGroup>(context, parent->tile.last_patch(), roots);
+            }
+            std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
+            for (const NodeId& r : roots) {
+                auto t = std::make_shared<const CachedTile>(context, r, *start, front_tally);
+                built.emplace_back(t, t->bytes);
+            }
+            start->share();  // before any other thread can see the tiles
+            tiles_built.fetch_add(built.size(), std::memory_order_relaxed);
+            return built;
+        };
+        return tiles.lookup_or_build_group(detail::TileKey{id, root}, share, group, build);
     }
 
     /// Never reused, so keys and fronts cannot confuse two hierarchies.

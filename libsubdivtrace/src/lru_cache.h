@@ -80,20 +80,18 @@ public:
     /// exception it throws reaches every waiting thread and nothing is cached.
     template <class Build>
     Value lookup_or_build(const Key& key, CacheOwnerTally& owner, Build&& build) {
-        return lookup_or_build_group(key, {}, owner, [&](const std::vector<Key>&) {
-            return std::vector<std::pair<Value, std::size_t>>{build()};
-        });
+        return lookup_or_build_group(
+            key, owner, [] { return std::vector<Key>(); },
+            [&](const std::vector<Key>&) { return std::vector<std::pair<Value, std::size_t>>{build()}; });
     }
 
     /// As lookup_or_build, for a value best built together with others (a
-    /// base triangle's tile with its chunk's): on a miss, the keys of `group`
-    /// that are neither cached nor being built are claimed as well (a thread
-    /// asking for one of them waits for this build), and build(claimed)
-    /// returns a value and its bytes for each claimed key, in order; `key`
-    /// is claimed[0].
-    template <class Build>
-    Value lookup_or_build_group(const Key& key, const std::vector<Key>& group, CacheOwnerTally& owner,
-                                Build&& build) {
+    /// tile with its group's): on a miss, the keys of group() that are
+    /// neither cached nor being built are claimed as well (a thread asking
+    /// for one of them waits for this build), and build(claimed) returns a
+    /// value and its bytes for each claimed key, in order; `key` is claimed[0].
+    template <class Group, class Build>
+    Value lookup_or_build_group(const Key& key, CacheOwnerTally& owner, Group&& group, Build&& build) {
         Shard& s = shard_for(key);
         std::shared_future<Value> other_build;
         std::vector<std::promise<Value>> promises;
@@ -123,7 +121,7 @@ public:
 
         // This thread builds `key`, and the group's keys nobody has or builds.
         std::vector<Key> claimed{key};
-        for (const Key& k : group) {
+        for (const Key& k : group()) {
             if (k == key) continue;
             Shard& g = shard_for(k);
             std::lock_guard<std::mutex> lock(g.mutex);

@@ -65,53 +65,76 @@ std::size_t Tile::index_in_level(const NodeId& id) const {
 
 NodeId parent_tile_root(const NodeId& root) { return ancestor_at(root, root.level - k_tile_depth); }
 
-Tile::Tile(const TileContext& ctx, const NodeId& root, const Patch& parent_patch)
-    : ctx_(&ctx), root_(root), levels_(std::min(k_tile_depth, ctx.max_level - root.level)) {
-    depth_ = static_cast<int>(levels_.size());
-    const BuildTimer timer(ctx.build_ns);
-    // The root's children and their border, cut from the parent tile's last patch.
-    frontier_ = Patch::copy_of(parent_patch, parent_patch.band([&](const NodeId& id) { return in_tile(id); }));
-    build_level(1);
+std::vector<NodeId> tile_group_of(const NodeId& root) {
+    std::vector<NodeId> group{ancestor_at(root, root.level - k_group_levels)};
+    for (int d = 0; d < k_group_levels; ++d) {
+        std::vector<NodeId> next;
+        for (const NodeId& id : group)
+            for (int c = 0; c < 4; ++c) next.push_back(child_of(id, c));
+        group = std::move(next);
+    }
+    return group;
 }
 
-RootChunk::RootChunk(const TileContext& ctx, const std::uint32_t* faces, std::size_t count)
-    : level1_(std::make_shared<Patch>()), faces_(count) {
+TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count)
+    : level_(std::make_shared<Patch>()), tiles_(count) {
     const BuildTimer timer(ctx.build_ns);
     const auto in_chunk = [&](const NodeId& id) { return std::binary_search(faces, faces + count, id.face); };
     Patch base = base_patch(ctx.topo, faces, count);
     base.finish(ctx.topo, ctx.scheme);
     if (ctx.roots) ctx.roots->lend_normals(base);
-    Patch& q = *level1_;
     std::vector<bool> kept;
-    q = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
-    q.keep_only(kept);
+    *level_ = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
+    level_->keep_only(kept);
+    prepare(ctx, in_chunk);
+}
+
+TileGroup::TileGroup(const TileContext& ctx, const Patch& parent_patch, std::vector<NodeId> roots)
+    : level_(std::make_shared<Patch>()), tiles_(roots.size()) {
+    const BuildTimer timer(ctx.build_ns);
+    const int level = roots.front().level;
+    const auto in_group = [&](const NodeId& id) {
+        if (id.level <= level) return false;
+        const NodeId a = ancestor_at(id, level);
+        return std::find(roots.begin(), roots.end(), a) != roots.end();
+    };
+    // The roots' children and their border, cut from the parent tile's last patch.
+    *level_ = Patch::copy_of(parent_patch, parent_patch.band(in_group));
+    prepare(ctx, in_group);
+}
+
+template <class InGroup>
+void TileGroup::prepare(const TileContext& ctx, InGroup in_group) {
+    Patch& q = *level_;
     q.finish(ctx.topo, ctx.scheme);
     std::vector<bool> region(q.tris.size());
-    for (std::size_t t = 0; t < region.size(); ++t) region[t] = in_chunk(q.tris[t].id);
+    for (std::size_t t = 0; t < region.size(); ++t) region[t] = in_group(q.tris[t].id);
+    // At max_level too: the corners' displacement tells a leaf there that
+    // the rule would have refined it.
     const std::vector<bool> needed = q.points_around(region);
     next_ = q.next_positions(ctx.topo, ctx.scheme, &needed);
     memo_ = std::make_unique<ShadingMemo>(q);
 }
 
-RootChunk::~RootChunk() = default;
+TileGroup::~TileGroup() = default;
 
-void RootChunk::share() {
+void TileGroup::share() {
     memo_.reset();
     next_ = Patch();
-    level1_->drop_derived();
+    level_->drop_derived();
 }
 
-Tile::Tile(const TileContext& ctx, const NodeId& root, RootChunk& chunk)
+Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     : ctx_(&ctx), root_(root), levels_(std::min(k_tile_depth, ctx.max_level - root.level)) {
     depth_ = static_cast<int>(levels_.size());
     const BuildTimer timer(ctx.build_ns);
-    Patch& q = *chunk.level1_;
-    // Every level-1 triangle of the root's face is in its tile.
+    Patch& q = *group.level_;
     std::vector<bool> in_this_tile(q.tris.size());
-    for (std::size_t t = 0; t < q.tris.size(); ++t) in_this_tile[t] = q.tris[t].id.face == root.face;
-    fill_level(1, q, chunk.next_, *chunk.memo_, in_this_tile);
-    shared_frontier_ = chunk.level1_;
-    shared_by_ = chunk.faces_;
+    for (std::size_t t = 0; t < q.tris.size(); ++t)  // a base triangle's: every triangle of its face
+        in_this_tile[t] = root.level == 0 ? q.tris[t].id.face == root.face : in_tile(q.tris[t].id);
+    fill_level(1, q, group.next_, *group.memo_, in_this_tile);
+    shared_frontier_ = group.level_;
+    shared_by_ = group.tiles_;
     ready_.store(1, std::memory_order_release);
 }
 
@@ -139,11 +162,12 @@ void Tile::advance_frontier() {
 }
 
 void Tile::build_level(int j) {
-    // frontier_ is level root.level + j - 1 for j > 1 (its records built):
-    // split it first. Then it is level root.level + j, cut to the tile's
-    // triangles and their border; the records of that level read the next
-    // level's points around them, computed here and dropped after.
-    if (j > 1) advance_frontier();
+    // frontier_ is level root.level + j - 1 (its records built; level 1
+    // comes from the tile's group): split it first. Then it is level
+    // root.level + j, cut to the tile's triangles and their border; the
+    // records of that level read the next level's points around them,
+    // computed here and dropped after.
+    advance_frontier();
     Patch& q = frontier_;
     q.finish(ctx_->topo, ctx_->scheme);
     std::vector<bool> in_this_tile(q.tris.size());

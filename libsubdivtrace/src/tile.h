@@ -43,30 +43,48 @@ struct TileContext {
     const RootRecords* roots = nullptr;
 };
 
-/// The first level below a chunk of base triangles (face_chunks.h), computed
-/// once for all their tiles: the chunk's level-1 triangles with their border,
-/// finished, and the level-2 points their records read. Each tile of the
-/// chunk takes its records and its frontier from it, with the same bits it
-/// would compute alone (every value is summed in canonical order).
-class RootChunk {
+/// The first level of a group of tiles, computed once for all of them: the
+/// level's triangles of every tile in the group with their border, finished,
+/// and the next level's points their records read. A group is a chunk of
+/// base triangles (face_chunks.h), or tiles below one tile (tile_group_of).
+/// Each tile takes its records and its frontier from it, with the same bits
+/// it would compute alone (every value is summed in canonical order): a lone
+/// tile is a group of one.
+class TileGroup {
 public:
-    /// `faces`: `count` base triangles, ascending.
-    RootChunk(const TileContext& ctx, const std::uint32_t* faces, std::size_t count);
-    ~RootChunk();
-    RootChunk(const RootChunk&) = delete;
-    RootChunk& operator=(const RootChunk&) = delete;
-    /// Call once every tile of the chunk is built and before another thread
-    /// can see them: their frontiers share the level-1 patch from now on,
+    /// Base triangles' tiles: `count` faces, ascending.
+    TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count);
+    /// Tiles rooted at `roots`, nodes of the deepest level of the tile whose
+    /// last patch is `parent_patch`.
+    TileGroup(const TileContext& ctx, const Patch& parent_patch, std::vector<NodeId> roots);
+    ~TileGroup();
+    TileGroup(const TileGroup&) = delete;
+    TileGroup& operator=(const TileGroup&) = delete;
+    /// Call once every tile of the group is built and before another thread
+    /// can see them: their frontiers share the level's patch from now on,
     /// without rings and edges.
     void share();
 
 private:
     friend class Tile;
-    std::shared_ptr<Patch> level1_;
-    std::size_t faces_ = 0;
+    /// Finishes the level and computes the next level's points around the
+    /// triangles `in_group` flags.
+    template <class InGroup>
+    void prepare(const TileContext& ctx, InGroup in_group);
+    std::shared_ptr<Patch> level_;
+    std::size_t tiles_ = 0;
     Patch next_;
     std::unique_ptr<ShadingMemo> memo_;
 };
+
+/// Tiles below another are built in groups: the 4^k_group_levels tile roots
+/// under one node k_group_levels above them (all in one tile's deepest level).
+/// Groups of 4, not 16: in the blob5k close-up 16 built 1.9x the tiles a
+/// lone build does for 1.36x the cache peak; 4 build 1.34x for 1.07x, and
+/// save more instructions (docs/benchmarks.md, "Tiles built in groups").
+constexpr int k_group_levels = 1;
+/// The roots of the group holding tile root `root` (level >= k_tile_depth), `root` among them.
+std::vector<NodeId> tile_group_of(const NodeId& root);
 
 /// One level of a tile: vertex values on the root's sub-grid of resolution
 /// n = 2^j ((n+1)(n+2)/2 points) and a shell per triangle (n^2).
@@ -88,13 +106,8 @@ struct TileLevel {
 /// level's points around it, not that level's topology).
 class Tile {
 public:
-    /// A tile below a tile: `parent_patch` is the last patch of the tile
-    /// whose deepest level holds `root` (level >= 1), one level below it.
-    /// `ctx` must outlive the tile.
-    Tile(const TileContext& ctx, const NodeId& root, const Patch& parent_patch);
-    /// A base triangle's tile (`root` a level-0 node of one of `chunk`'s faces).
-    Tile(const TileContext& ctx, const NodeId& root, RootChunk& chunk);
-
+    /// The tile rooted at `root`, one of `group`'s. `ctx` must outlive the tile.
+    Tile(const TileContext& ctx, const NodeId& root, TileGroup& group);
 
     /// The record of descendant `id` (root.level < id.level <= root.level + depth),
     /// building its level first if needed. Thread-safe.
@@ -148,9 +161,9 @@ private:
     /// The deepest level built (without rings and edges), or once
     /// last_patch() was asked for, the level below the tile.
     Patch frontier_;
-    /// A base triangle's tile starts with its chunk's level-1 patch as its
-    /// frontier, shared with the chunk's other tiles (most never go deeper),
-    /// and cuts its own from it when it does.
+    /// A tile starts with its group's first patch as its frontier, shared
+    /// with the group's other tiles (most never go deeper), and cuts its own
+    /// from it when it does.
     std::shared_ptr<const Patch> shared_frontier_;
     std::size_t shared_by_ = 1;  ///< tiles sharing it
     mutable std::mutex mutex_;

@@ -1,7 +1,8 @@
-// Base triangles' tiles are built by chunks (face_chunks.h, tile.h
-// RootChunk): a chunk is a connected group of faces, and a tile built with
-// its chunk must hold exactly the bits it holds when built alone, or the two
-// sides of an edge between tiles of different chunks would not meet.
+// Tiles are built in groups (tile.h, TileGroup): base triangles' tiles by
+// chunks of connected faces (face_chunks.h), tiles below a tile by the few
+// under one node. A tile built with its group must hold exactly the bits it
+// holds when built alone, or the two sides of an edge between tiles of
+// different groups would not meet.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -98,7 +99,7 @@ TEST_CASE("face chunks partition the base faces into small connected groups", "[
     }
 }
 
-TEST_CASE("a base triangle's tile holds the same bits built alone or with its chunk", "[hierarchy]") {
+TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarchy]") {
     for (const auto& [name, mesh] : chunked_meshes()) {
         const BaseTopology topo(mesh);
         const FaceChunks chunks(topo, k_face_chunk_size);
@@ -109,27 +110,35 @@ TEST_CASE("a base triangle's tile holds the same bits built alone or with its ch
             const RootRecords roots(ctx);
             ctx.roots = &roots;
             std::size_t compared = 0, differing = 0;
+            const auto compare = [&](const Tile& a, const Tile& b, const NodeId& root, int depth) {
+                for_each_descendant(root, depth, [&](const NodeId& id) {
+                    ++compared;
+                    if (!same(a.record(id), b.record(id))) ++differing;
+                });
+            };
             for (std::uint32_t face = 0; face < mesh.triangles.size(); face += 3) {
                 const auto [begin, end] = chunks.chunk_of(face);
-                RootChunk alone_chunk(ctx, &face, 1);
-                RootChunk whole_chunk(ctx, begin, static_cast<std::size_t>(end - begin));
+                TileGroup alone_group(ctx, &face, 1);
+                TileGroup whole_chunk(ctx, begin, static_cast<std::size_t>(end - begin));
                 const NodeId root = root_node(face);
-                const Tile alone(ctx, root, alone_chunk);
+                const Tile alone(ctx, root, alone_group);
                 const Tile with_chunk(ctx, root, whole_chunk);
-                alone_chunk.share();
+                alone_group.share();
                 whole_chunk.share();
-                for_each_descendant(root, 3, [&](const NodeId& id) {
-                    ++compared;
-                    if (!same(alone.record(id), with_chunk.record(id))) ++differing;
-                });
-                // Child tiles start from the two tiles' last patches.
+                compare(alone, with_chunk, root, 3);
+                // Tiles below: alone, and with their group, from either tile's
+                // last patch.
                 const NodeId child_root = child_of(child_of(child_of(root, 1), 3), 0);
-                const Tile child_alone(ctx, child_root, alone.last_patch());
-                const Tile child_with_chunk(ctx, child_root, with_chunk.last_patch());
-                for_each_descendant(child_root, 2, [&](const NodeId& id) {
-                    ++compared;
-                    if (!same(child_alone.record(id), child_with_chunk.record(id))) ++differing;
-                });
+                const std::vector<NodeId> siblings = tile_group_of(child_root);
+                REQUIRE(siblings.size() == std::size_t{1} << (2 * k_group_levels));
+                REQUIRE(std::count(siblings.begin(), siblings.end(), child_root) == 1);
+                TileGroup child_alone_group(ctx, alone.last_patch(), {child_root});
+                TileGroup child_siblings(ctx, with_chunk.last_patch(), siblings);
+                const Tile child_alone(ctx, child_root, child_alone_group);
+                const Tile child_with_siblings(ctx, child_root, child_siblings);
+                child_alone_group.share();
+                child_siblings.share();
+                compare(child_alone, child_with_siblings, child_root, 3);
             }
             CHECK(compared > 0);
             CHECK(differing == 0);
