@@ -36,7 +36,7 @@ struct FrontTally {
 /// front tally.
 struct CachedTile {
     CachedTile(const TileContext& ctx, const NodeId& root, TileGroup& group, std::shared_ptr<FrontTally> tally)
-        : tile(ctx, root, group), bytes(tile.bytes_when_complete()), front_tally(std::move(tally)) {}
+        : tile(ctx, root, group), bytes(tile.bytes_held()), front_tally(std::move(tally)) {}
     Tile tile;
     std::size_t bytes;
     std::shared_ptr<FrontTally> front_tally;
@@ -112,6 +112,13 @@ public:
           cache(std::move(shared_cache)),
           tiles(cache->impl()) {
         context.roots = &roots;
+        // A tile that grows is charged its new size (if the cache still
+        // holds that very tile: a rebuilt one under its key is not it).
+        context.resized = [this](const detail::Tile& t, const NodeId& root, std::size_t before, std::size_t after) {
+            tiles.recharge(
+                detail::TileKey{id, root}, [&](const std::shared_ptr<const CachedTile>& v) { return &v->tile == &t; },
+                before, after);
+        };
         tiles.surfaces.fetch_add(1, std::memory_order_relaxed);
     }
 

@@ -155,6 +155,26 @@ public:
         return built[0].first;
     }
 
+    /// Charges the entry under `key` `to` bytes instead of `from` (what its
+    /// value owns grew or shrank), if it is cached and is(value) holds (not
+    /// a rebuilt value under the same key); may evict to keep the budget.
+    template <class Is>
+    void recharge(const Key& key, Is is, std::size_t from, std::size_t to) {
+        Shard& s = shard_for(key);
+        std::lock_guard<std::mutex> lock(s.mutex);
+        auto it = s.map.find(key);
+        if (it == s.map.end() || !is(it->second->value)) return;
+        Entry& e = *it->second;
+        // Unsigned arithmetic wraps consistently: adding (to - from) is exact.
+        e.bytes += to - from;
+        s.bytes += to - from;
+        total_bytes_.fetch_add(to - from, std::memory_order_relaxed);
+        e.owner->bytes.fetch_add(to - from, std::memory_order_relaxed);
+        evict_over_budget_locked(s);
+        atomic_raise(peak_bytes_, total_bytes_.load(std::memory_order_relaxed));
+        atomic_raise(e.owner->peak_bytes, e.owner->bytes.load(std::memory_order_relaxed));
+    }
+
     /// Drops every entry charged to `owner` (not counted as evictions). No
     /// thread may be building an entry for it.
     void erase_owner(const CacheOwnerTally& owner) {
@@ -225,6 +245,14 @@ private:
         ++s.insertions;
         total_bytes_.fetch_add(cost, std::memory_order_relaxed);
         const std::size_t owner_bytes = owner.bytes.fetch_add(cost, std::memory_order_relaxed) + cost;
+        evict_over_budget_locked(s);
+        // Peaks after this insertion's evictions: what stays charged.
+        atomic_raise(peak_bytes_, total_bytes_.load(std::memory_order_relaxed));
+        atomic_raise(owner.peak_bytes, std::min(owner_bytes, owner.bytes.load(std::memory_order_relaxed)));
+    }
+
+    /// Drops the least recently used entries while the shard is over its budget.
+    void evict_over_budget_locked(Shard& s) {
         const std::size_t shard_budget = budget_per_shard_.load(std::memory_order_relaxed);
         while (s.bytes > shard_budget && s.order.size() > k_min_entries) {
             Entry& victim = s.order.back();
@@ -236,9 +264,6 @@ private:
             s.order.pop_back();
             ++s.evictions;
         }
-        // Peaks after this insertion's evictions: what stays charged.
-        atomic_raise(peak_bytes_, total_bytes_.load(std::memory_order_relaxed));
-        atomic_raise(owner.peak_bytes, std::min(owner_bytes, owner.bytes.load(std::memory_order_relaxed)));
     }
 
     Shard& shard_for(const Key& key) {

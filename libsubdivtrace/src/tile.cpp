@@ -302,9 +302,13 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
 void Tile::ensure_level(int j) const {
     std::lock_guard<std::mutex> lock(mutex_);
     if (ready_.load(std::memory_order_relaxed) >= j) return;  // another thread built it
-    const BuildTimer timer(ctx_->build_ns);
-    auto* self = const_cast<Tile*>(this);
-    for (int k = ready_.load(std::memory_order_relaxed) + 1; k <= j; ++k) self->build_level(k);
+    const std::size_t before = bytes_held();
+    {
+        const BuildTimer timer(ctx_->build_ns);
+        auto* self = const_cast<Tile*>(this);
+        for (int k = ready_.load(std::memory_order_relaxed) + 1; k <= j; ++k) self->build_level(k);
+    }
+    if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
 }
 
 const Patch& Tile::last_patch() const {
@@ -312,28 +316,45 @@ const Patch& Tile::last_patch() const {
     ensure_level(depth_);
     std::lock_guard<std::mutex> lock(mutex_);
     if (!last_ready_.load(std::memory_order_relaxed)) {
-        const BuildTimer timer(ctx_->build_ns);
-        auto* self = const_cast<Tile*>(this);
-        if (root_.level + depth_ < ctx_->max_level) self->advance_frontier();
-        else self->frontier_ = Patch();  // no tile starts below max_level
+        const std::size_t before = bytes_held();
+        {
+            const BuildTimer timer(ctx_->build_ns);
+            auto* self = const_cast<Tile*>(this);
+            if (root_.level + depth_ < ctx_->max_level) self->advance_frontier();
+            else self->frontier_ = Patch();  // no tile starts below max_level
+        }
+        if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
         last_ready_.store(true, std::memory_order_release);
     }
     return frontier_;
 }
 
-std::size_t Tile::bytes_when_complete() const {
+namespace {
+
+/// Heap bytes of a vector's block as glibc's malloc allocates it (its size
+/// plus an 8-byte header, rounded up to 16, at least 32): a tile holds about
+/// ten small arrays per level, and leaving this out undercharged tiles by
+/// about 20% (RSS above the budget, docs/povray.md "Memory").
+template <class T>
+std::size_t held(const std::vector<T>& v) {
+    if (v.capacity() == 0) return 0;
+    return std::max<std::size_t>(32, (v.capacity() * sizeof(T) + 8 + 15) / 16 * 16);
+}
+
+}  // namespace
+
+std::size_t Tile::bytes_held() const {
     // A shared frontier is charged by share (without rings and edges, which
-    // its chunk drops once every tile is built).
+    // its group drops once every tile is built).
     const std::size_t frontier_bytes =
         shared_frontier_ ? (shared_frontier_->verts.size() * sizeof(PatchVertex) +
                             shared_frontier_->tris.size() * sizeof(PatchTriangle)) / shared_by_
                          : frontier_.owned_bytes();
-    std::size_t bytes = sizeof(Tile) + levels_.capacity() * sizeof(TileLevel) + 2 * frontier_bytes;
-    const std::size_t per_vertex = (ctx_->scheme == SchemeKind::loop ? 3 : 2) * sizeof(Vec3) +
-                                   4 * sizeof(glm::vec3) + sizeof(float);
-    for (int j = 1; j <= depth_; ++j) {
-        const std::size_t n = std::size_t{1} << j;
-        bytes += (n + 1) * (n + 2) / 2 * per_vertex + n * n * sizeof(CompactShell);
+    std::size_t bytes = sizeof(Tile) + held(levels_) + frontier_bytes;
+    for (const TileLevel& l : levels_) {
+        bytes += held(l.position) + held(l.normal) + held(l.draw) + held(l.shading) + held(l.displacement) +
+                 held(l.shells);
+        for (const auto& e : l.edge_normal) bytes += held(e);
     }
     return bytes;
 }

@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cstddef>
+#include <functional>
 #include <mutex>
 #include <memory>
 #include <vector>
@@ -25,6 +26,7 @@ namespace subdivtrace::detail {
 constexpr int k_tile_depth = 3;
 
 class RootRecords;
+class Tile;
 struct ShadingMemo;
 
 /// What a tile build needs to know of the hierarchy.
@@ -41,6 +43,10 @@ struct TileContext {
     /// The base level's records once they are built: a base triangle's tile
     /// takes its level-0 normals from them instead of recomputing them.
     const RootRecords* roots = nullptr;
+    /// Told when a tile grows (a level built on first use, the patch its
+    /// child tiles start from), with its bytes_held() before and after, so
+    /// the cache charges what tiles hold rather than what they might.
+    std::function<void(const Tile& tile, const NodeId& root, std::size_t before, std::size_t after)> resized;
 };
 
 /// The first level of a group of tiles, computed once for all of them: the
@@ -126,10 +132,9 @@ public:
     /// first. Empty at max_level.
     const Patch& last_patch() const;
 
-    /// What the cache charges for the tile: its size with every level built,
-    /// the patch it keeps counted as twice the first level's (the patch
-    /// grows with the levels; most tiles never build past their first).
-    std::size_t bytes_when_complete() const;
+    /// What the tile holds now: the levels built and its frontier (a shared
+    /// one by its share). Grows as levels are built (TileContext::resized).
+    std::size_t bytes_held() const;
 
 private:
     bool in_tile(const NodeId& id) const;

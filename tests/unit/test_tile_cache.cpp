@@ -13,6 +13,7 @@
 #include <glm/common.hpp>
 
 #include "lru_cache.h"
+#include "node_address.h"
 #include "render/render_loop.h"
 #include "subdivtrace/hierarchy.h"
 #include "subdivtrace/tile_cache.h"
@@ -130,7 +131,7 @@ TEST_CASE("a shared cache keeps one budget across surfaces, evicting the least r
     const Hierarchy probe(mesh, SchemeKind::normal, 7, std::size_t{256} << 20);
     walk(probe, 20, 5);
     const std::size_t need = probe.counters().bytes;
-    const std::size_t tile = need / probe.counters().node_misses;  // a mean tile
+    const std::size_t tile = need / probe.counters().tiles_built;  // a mean tile
     const std::size_t budget = need * 3 / 2;
     // Each of the 64 shards keeps budget / 64 and at least 2 tiles: the
     // total may pass the budget by about a shard's share per shard.
@@ -250,4 +251,44 @@ TEST_CASE("a failed build reaches the thread that waited for it and caches nothi
     CHECK(v == 42);
     CHECK(cache.counters().misses == 2);
     CHECK(cache.counters().duplicate_builds == 0);
+}
+
+TEST_CASE("a grown entry is charged its new size, within the budget", "[cache][memory]") {
+    // Tiles build their levels after they are cached; the cache is told
+    // (recharge) and charges what they hold, evicting to keep its budget.
+    struct MixHash {  // spreads consecutive keys over the shards
+        std::size_t operator()(int k) const { return static_cast<std::size_t>(detail::mix64(static_cast<std::uint64_t>(k))); }
+    };
+    using Cache = detail::ShardedLruCache<int, int, MixHash>;
+    const std::size_t entry = Cache::k_entry_bytes;
+    const std::size_t budget = Cache::k_shards * 8 * (entry + 100);
+    Cache cache(budget);
+    detail::CacheOwnerTally owner;
+    const int count = static_cast<int>(Cache::k_shards * 2);
+    for (int k = 0; k < count; ++k) cache.lookup_or_build(k, owner, [&] { return std::make_pair(k, std::size_t{100}); });
+    REQUIRE(cache.counters().evictions == 0);
+    CHECK(cache.counters().bytes == count * (entry + 100));
+
+    // Another value under the key, or a key not cached: nothing changes.
+    cache.recharge(0, [](int v) { return v != 0; }, 100, 5000);
+    cache.recharge(-1, [](int) { return true; }, 100, 5000);
+    CHECK(cache.counters().bytes == count * (entry + 100));
+    CHECK(owner.bytes.load() == count * (entry + 100));
+
+    // Growing and shrinking one entry moves the totals by exactly that much.
+    cache.recharge(1, [](int v) { return v == 1; }, 100, 700);
+    CHECK(cache.counters().bytes == count * (entry + 100) + 600);
+    cache.recharge(1, [](int v) { return v == 1; }, 700, 100);
+    CHECK(cache.counters().bytes == count * (entry + 100));
+    CHECK(owner.bytes.load() == count * (entry + 100));
+
+    // Every entry grows tenfold: the cache evicts to stay within its budget
+    // (each shard keeps at least 2 entries).
+    for (int k = 0; k < count; ++k) cache.recharge(k, [k](int v) { return v == k; }, 100, 1000);
+    const detail::CacheCounters c = cache.counters();
+    CHECK(c.evictions > 0);
+    CHECK(c.bytes <= budget + 2 * Cache::k_shards * (entry + 1000));
+    CHECK(c.peak_bytes >= c.bytes);
+    CHECK(owner.bytes.load() == c.bytes);
+    CHECK(owner.evictions.load() == c.evictions);
 }

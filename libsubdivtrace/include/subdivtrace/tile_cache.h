@@ -52,8 +52,8 @@ struct TileCacheStats {
 /// other's tiles; a surface's tiles leave the cache when it is destroyed.
 class TileCache {
 public:
-    /// Default scene budget in MB (docs/povray.md measures the choice).
-    static constexpr std::size_t k_default_mb = 256;
+    /// Default scene budget in MB (docs/povray.md, "Choosing the budget", measures the choice).
+    static constexpr std::size_t k_default_mb = 128;
 
     /// A cache charging at most about `budget_bytes` (see peak_bytes).
     /// A tiny budget is legal: it only costs rebuilding tiles.
