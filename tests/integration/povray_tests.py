@@ -1478,7 +1478,7 @@ def test_every_ray_kind(ctx):
 
 
 def summary_cache(err):
-    m = re.search(r"Subdivision scene cache:\s+([\d.]+) MB budget, ([\d.]+) MB peak, (\d+) evictions", err)
+    m = re.search(r"Subdivision scene cache:\s+([\d.]+) MB budget, ([\d.]+) MB peak, (\d+)\s+evictions", err)
     s = re.search(r"Subdivision mesh surfaces:\s+(\d+)", err)
     if not m or not s:
         raise Failure("render summary lacks the scene cache line:\n%s" % tail(err, 30))
