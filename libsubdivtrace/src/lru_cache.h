@@ -165,14 +165,15 @@ public:
         auto it = s.map.find(key);
         if (it == s.map.end() || !is(it->second->value)) return;
         Entry& e = *it->second;
+        CacheOwnerTally& owner = *e.owner;  // the entry itself may be evicted below
         // Unsigned arithmetic wraps consistently: adding (to - from) is exact.
         e.bytes += to - from;
         s.bytes += to - from;
         total_bytes_.fetch_add(to - from, std::memory_order_relaxed);
-        e.owner->bytes.fetch_add(to - from, std::memory_order_relaxed);
+        owner.bytes.fetch_add(to - from, std::memory_order_relaxed);
         evict_over_budget_locked(s);
         atomic_raise(peak_bytes_, total_bytes_.load(std::memory_order_relaxed));
-        atomic_raise(e.owner->peak_bytes, e.owner->bytes.load(std::memory_order_relaxed));
+        atomic_raise(owner.peak_bytes, owner.bytes.load(std::memory_order_relaxed));
     }
 
     /// Drops every entry charged to `owner` (not counted as evictions). No
