@@ -12,7 +12,7 @@
 #   ref       the paper's size rule at tolerance 0.25, max level 10 (the
 #             reference image, the same whichever rule is under test)
 #   adaptive  the error rule (--refine error, the default) at tolerance
-#             8 4 2 1 0.5 (--quick: 4 2 1 0.5), node cache $CACHE_MB (64 MB),
+#             8 4 2 1 0.5 (--quick: 4 2 1 0.5), node cache $CACHE_MB (32 MB),
 #             and tolerance 1 with a 16 MB cache (lowmem_t1)
 #   size      the size rule (--refine size) at the same tolerances (--quick:
 #             2 1)
@@ -104,7 +104,7 @@ mem_limit_mb=6000
 # cache reserves its budget up front, so peak RSS follows the budget, not the
 # work. 64 was as fast as 512 here. One extra render per view at tolerance 1
 # with a 16 MB budget shows the memory floor.
-cache_mb=${CACHE_MB:-64}
+cache_mb=${CACHE_MB:-32}
 lowmem_cache_mb=16
 
 # view name -> camera options. Both explicit: the CLI's default camera frames

@@ -184,7 +184,6 @@ public:
                 auto t = std::make_shared<const CachedTile>(context, r, *start, front_tally);
                 built.emplace_back(t, t->bytes);
             }
-            start->share();  // before any other thread can see the tiles
             tiles_built.fetch_add(built.size(), std::memory_order_relaxed);
             return built;
         };

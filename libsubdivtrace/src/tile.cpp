@@ -76,21 +76,19 @@ std::vector<NodeId> tile_group_of(const NodeId& root) {
     return group;
 }
 
-TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count)
-    : level_(std::make_shared<Patch>()), tiles_(count) {
+TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count) {
     const BuildTimer timer(ctx.build_ns);
     const auto in_chunk = [&](const NodeId& id) { return std::binary_search(faces, faces + count, id.face); };
     Patch base = base_patch(ctx.topo, faces, count);
     base.finish(ctx.topo, ctx.scheme);
     if (ctx.roots) ctx.roots->lend_normals(base);
     std::vector<bool> kept;
-    *level_ = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
-    level_->keep_only(kept);
+    level_ = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
+    level_.keep_only(kept);
     prepare(ctx, in_chunk);
 }
 
-TileGroup::TileGroup(const TileContext& ctx, const Patch& parent_patch, std::vector<NodeId> roots)
-    : level_(std::make_shared<Patch>()), tiles_(roots.size()) {
+TileGroup::TileGroup(const TileContext& ctx, const Patch& parent_patch, std::vector<NodeId> roots) {
     const BuildTimer timer(ctx.build_ns);
     const int level = roots.front().level;
     const auto in_group = [&](const NodeId& id) {
@@ -99,13 +97,13 @@ TileGroup::TileGroup(const TileContext& ctx, const Patch& parent_patch, std::vec
         return std::find(roots.begin(), roots.end(), a) != roots.end();
     };
     // The roots' children and their border, cut from the parent tile's last patch.
-    *level_ = Patch::copy_of(parent_patch, parent_patch.band(in_group));
+    level_ = Patch::copy_of(parent_patch, parent_patch.band(in_group));
     prepare(ctx, in_group);
 }
 
 template <class InGroup>
 void TileGroup::prepare(const TileContext& ctx, InGroup in_group) {
-    Patch& q = *level_;
+    Patch& q = level_;
     q.finish(ctx.topo, ctx.scheme);
     std::vector<bool> region(q.tris.size());
     for (std::size_t t = 0; t < region.size(); ++t) region[t] = in_group(q.tris[t].id);
@@ -118,23 +116,20 @@ void TileGroup::prepare(const TileContext& ctx, InGroup in_group) {
 
 TileGroup::~TileGroup() = default;
 
-void TileGroup::share() {
-    memo_.reset();
-    next_ = Patch();
-    level_->drop_derived();
-}
-
 Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     : ctx_(&ctx), root_(root), levels_(std::min(k_tile_depth, ctx.max_level - root.level)) {
     depth_ = static_cast<int>(levels_.size());
     const BuildTimer timer(ctx.build_ns);
-    Patch& q = *group.level_;
+    Patch& q = group.level_;
+    // A base triangle's tile holds every triangle of its face.
+    const auto in_root = [&](const NodeId& id) { return root.level == 0 ? id.face == root.face : in_tile(id); };
     std::vector<bool> in_this_tile(q.tris.size());
-    for (std::size_t t = 0; t < q.tris.size(); ++t)  // a base triangle's: every triangle of its face
-        in_this_tile[t] = root.level == 0 ? q.tris[t].id.face == root.face : in_tile(q.tris[t].id);
+    for (std::size_t t = 0; t < q.tris.size(); ++t) in_this_tile[t] = in_root(q.tris[t].id);
     fill_level(1, q, group.next_, *group.memo_, in_this_tile);
-    shared_frontier_ = group.level_;
-    shared_by_ = group.tiles_;
+    // The frontier a lone tile would keep: its triangles and their border,
+    // without rings and edges (a copy each: a patch shared by the group
+    // outlived the tiles that were charged for it once some were evicted).
+    frontier_ = Patch::copy_of(q, q.band(in_root));
     ready_.store(1, std::memory_order_release);
 }
 
@@ -147,12 +142,6 @@ void Tile::advance_frontier() {
     // border: the next level's start, or after the deepest level where
     // child tiles start (its positions are recomputed here from scratch, as
     // only a tile that goes deeper pays for that level's topology).
-    if (shared_frontier_) {
-        // The frontier a lone tile would have kept: its triangles and their border.
-        const Patch& shared = *shared_frontier_;
-        frontier_ = Patch::copy_of(shared, shared.band([&](const NodeId& id) { return in_tile(id); }));
-        shared_frontier_.reset();
-    }
     Patch& q = frontier_;
     q.finish(ctx_->topo, ctx_->scheme);
     std::vector<bool> kept;
@@ -344,13 +333,7 @@ std::size_t held(const std::vector<T>& v) {
 }  // namespace
 
 std::size_t Tile::bytes_held() const {
-    // A shared frontier is charged by share (without rings and edges, which
-    // its group drops once every tile is built).
-    const std::size_t frontier_bytes =
-        shared_frontier_ ? (shared_frontier_->verts.size() * sizeof(PatchVertex) +
-                            shared_frontier_->tris.size() * sizeof(PatchTriangle)) / shared_by_
-                         : frontier_.owned_bytes();
-    std::size_t bytes = sizeof(Tile) + held(levels_) + frontier_bytes;
+    std::size_t bytes = sizeof(Tile) + held(levels_) + frontier_.owned_bytes();
     for (const TileLevel& l : levels_) {
         bytes += held(l.position) + held(l.normal) + held(l.draw) + held(l.shading) + held(l.displacement) +
                  held(l.shells);

@@ -53,8 +53,8 @@ struct TileContext {
 /// level's triangles of every tile in the group with their border, finished,
 /// and the next level's points their records read. A group is a chunk of
 /// base triangles (face_chunks.h), or tiles below one tile (tile_group_of).
-/// Each tile takes its records and its frontier from it, with the same bits
-/// it would compute alone (every value is summed in canonical order): a lone
+/// Each tile takes its records and its frontier (its own triangles and their
+/// border) from it, with the same bits it would compute alone (every value is summed in canonical order): a lone
 /// tile is a group of one.
 class TileGroup {
 public:
@@ -66,10 +66,6 @@ public:
     ~TileGroup();
     TileGroup(const TileGroup&) = delete;
     TileGroup& operator=(const TileGroup&) = delete;
-    /// Call once every tile of the group is built and before another thread
-    /// can see them: their frontiers share the level's patch from now on,
-    /// without rings and edges.
-    void share();
 
 private:
     friend class Tile;
@@ -77,8 +73,7 @@ private:
     /// triangles `in_group` flags.
     template <class InGroup>
     void prepare(const TileContext& ctx, InGroup in_group);
-    std::shared_ptr<Patch> level_;
-    std::size_t tiles_ = 0;
+    Patch level_;
     Patch next_;
     std::unique_ptr<ShadingMemo> memo_;
 };
@@ -132,8 +127,8 @@ public:
     /// first. Empty at max_level.
     const Patch& last_patch() const;
 
-    /// What the tile holds now: the levels built and its frontier (a shared
-    /// one by its share). Grows as levels are built (TileContext::resized).
+    /// What the tile holds now: the levels built and its frontier. Grows as
+    /// levels are built (TileContext::resized).
     std::size_t bytes_held() const;
 
 private:
@@ -166,11 +161,6 @@ private:
     /// The deepest level built (without rings and edges), or once
     /// last_patch() was asked for, the level below the tile.
     Patch frontier_;
-    /// A tile starts with its group's first patch as its frontier, shared
-    /// with the group's other tiles (most never go deeper), and cuts its own
-    /// from it when it does.
-    std::shared_ptr<const Patch> shared_frontier_;
-    std::size_t shared_by_ = 1;  ///< tiles sharing it
     mutable std::mutex mutex_;
     mutable std::atomic<int> ready_{0};
     mutable std::atomic<bool> last_ready_{false};

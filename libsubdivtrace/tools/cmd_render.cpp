@@ -39,7 +39,7 @@ const char* k_render_options_help =
     "  --tolerance T              pixels, for the rule above (1)\n"
     "  --max-level L              deepest level any ray may reach (8)\n"
     "  --uniform K                render the uniform level-K mesh instead (baseline)\n"
-    "  --cache-mb M               tile cache budget in MB (64)\n"
+    "  --cache-mb M               tile cache budget in MB (32)\n"
     "  --shell K                  bounding shells: slab (box and normal slab) | aabb (slab)\n"
     "  --color-by level|face|error false colours: the level of the leaf each pixel hit,\n"
     "                             its base triangle, or its certified error bound in\n"

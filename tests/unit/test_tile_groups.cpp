@@ -123,8 +123,6 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 const NodeId root = root_node(face);
                 const Tile alone(ctx, root, alone_group);
                 const Tile with_chunk(ctx, root, whole_chunk);
-                alone_group.share();
-                whole_chunk.share();
                 compare(alone, with_chunk, root, 3);
                 // Tiles below: alone, and with their group, from either tile's
                 // last patch.
@@ -136,8 +134,6 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 TileGroup child_siblings(ctx, with_chunk.last_patch(), siblings);
                 const Tile child_alone(ctx, child_root, child_alone_group);
                 const Tile child_with_siblings(ctx, child_root, child_siblings);
-                child_alone_group.share();
-                child_siblings.share();
                 compare(child_alone, child_with_siblings, child_root, 3);
             }
             CHECK(compared > 0);

@@ -73,8 +73,9 @@ struct SurfaceOptions {
     /// Deepest level any ray may refine to (0 = the base mesh).
     int max_level = 8;
     /// Byte budget of the surface's own tile cache, shared by all threads;
-    /// used only when `cache` (below) is null.
-    std::size_t cache_mb = 64;
+    /// used only when `cache` (below) is null. Tiles are charged what they
+    /// hold: a close-up of one object needs about 16 MB (docs/povray.md).
+    std::size_t cache_mb = 32;
     View view;
     CrackRule crack_rule = CrackRule::snap_frozen_edges;
     /// Bounding volume the rays are culled against (docs/tracer.md measures both).
