@@ -4,7 +4,9 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <mutex>
 #include <thread>
 
 #include <glm/geometric.hpp>
@@ -79,6 +81,10 @@ Image render(const IntersectFn& intersect, const Camera& camera, const RenderOpt
 
     std::atomic<int> next_row{0};
     std::atomic<int> rows_done{0};
+    // Wakes the progress report when the last row is done, so the render's
+    // time is not rounded up to its next report.
+    std::mutex done_mutex;
+    std::condition_variable all_done;
     std::vector<RenderStats> per_thread(threads);
     const auto start = std::chrono::steady_clock::now();
     auto worker = [&](int t) {
@@ -101,7 +107,10 @@ Image render(const IntersectFn& intersect, const Camera& camera, const RenderOpt
                 px[1] = static_cast<float>(colour.y);
                 px[2] = static_cast<float>(colour.z);
             }
-            ++rows_done;
+            if (++rows_done == camera.height) {
+                const std::lock_guard<std::mutex> lock(done_mutex);
+                all_done.notify_all();
+            }
         }
     };
     std::vector<std::thread> pool;
@@ -111,7 +120,11 @@ Image render(const IntersectFn& intersect, const Camera& camera, const RenderOpt
         pool.emplace_back(worker, 0);
         int last = -1;
         while (rows_done.load() < camera.height) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(250));
+            {
+                std::unique_lock<std::mutex> lock(done_mutex);
+                all_done.wait_for(lock, std::chrono::milliseconds(250),
+                                  [&] { return rows_done.load() >= camera.height; });
+            }
             const double elapsed =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             const int percent = 100 * rows_done.load() / camera.height;
