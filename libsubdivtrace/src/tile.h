@@ -78,12 +78,14 @@ private:
     std::unique_ptr<ShadingMemo> memo_;
 };
 
-/// Tiles below another are built in groups: the 4^k_group_levels tile roots
-/// under one node k_group_levels above them (all in one tile's deepest level).
-/// Groups of 4, not 16: in the blob5k close-up 16 built 1.9x the tiles a
-/// lone build does for 1.36x the cache peak; 4 build 1.34x for 1.07x, and
-/// save more instructions (docs/benchmarks.md, "Tiles built in groups").
-constexpr int k_group_levels = 1;
+/// Tiles below another may be built in groups: the 4^k_group_levels tile
+/// roots under one node k_group_levels above them (all in one tile's deepest
+/// level). 0, a group of one: in the blob5k close-up (one thread) groups of
+/// 4 saved 6% of the instructions for 1.34x the tiles built, but in POV-Ray's
+/// twenty bunnies at tolerance 1 the extra tiles and their evictions cost
+/// more than that (2.00 M nodes built against 1.87 M, and no faster);
+/// groups of 16 built 1.9x the tiles (docs/benchmarks.md, "Tiles built in groups").
+constexpr int k_group_levels = 0;
 /// The roots of the group holding tile root `root` (level >= k_tile_depth), `root` among them.
 std::vector<NodeId> tile_group_of(const NodeId& root);
 
