@@ -9,6 +9,8 @@
 #include <atomic>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
 #include "face_chunks.h"
 #include "root_records.h"
 #include "subdivtrace/uniform.h"
@@ -30,7 +32,15 @@ std::vector<std::pair<const char*, Mesh>> chunked_meshes() {
     for (Triangle t : grid.triangles) {
         for (auto& v : t) v += offset;
         two_parts.triangles.push_back(t);
+        // The cube's corner normals (its creases) must cover every triangle.
+        const Vec3 n = glm::normalize(glm::cross(two_parts.positions[t[1]] - two_parts.positions[t[0]],
+                                                 two_parts.positions[t[2]] - two_parts.positions[t[0]]));
+        if (!two_parts.corner_normals.empty())
+            for (int c = 0; c < 3; ++c) two_parts.corner_normals.push_back(n);
+        if (!two_parts.corner_uvs.empty())
+            for (int c = 0; c < 3; ++c) two_parts.corner_uvs.push_back(Vec2(0.0));
     }
+    REQUIRE_NOTHROW(validate_mesh(two_parts, "creased cube and open grid"));
     return {{"irregular, level 1", to_mesh(subdivide_uniform(testmesh::irregular_closed(5), SchemeKind::normal, 1))},
             {"creased cube and open grid", two_parts}};
 }
