@@ -272,7 +272,6 @@ private:
         const std::size_t h = Hash{}(key);
         return shards_[(h >> 7) % shards_.size()];
     }
-    const Shard& shard_for(const Key& key) const { return const_cast<ShardedLruCache*>(this)->shard_for(key); }
 
     std::vector<Shard> shards_;
     std::atomic<std::size_t> budget_{0};
