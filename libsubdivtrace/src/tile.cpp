@@ -49,6 +49,21 @@ std::size_t local_triangle_index(std::uint32_t n, std::uint32_t x, std::uint32_t
     return ups + std::size_t{y} * (n - 1) - std::size_t{y} * (y - 1) / 2 + x;
 }
 
+/// Finishes level `q` and computes the next level's points its records read
+/// around the triangles `in_region` accepts (into `next`); returns the flags.
+/// A group's first level and a tile's later levels start the same way.
+template <class InRegion>
+std::vector<bool> finish_for_records(const TileContext& ctx, Patch& q, InRegion in_region, Patch& next) {
+    q.finish(ctx.topo, ctx.scheme);
+    std::vector<bool> region(q.tris.size());
+    for (std::size_t t = 0; t < region.size(); ++t) region[t] = in_region(q.tris[t].id);
+    // At max_level too: the corners' displacement tells a leaf there that
+    // the rule would have refined it.
+    const std::vector<bool> needed = q.points_around(region);
+    next = q.next_positions(ctx.topo, ctx.scheme, &needed);
+    return region;
+}
+
 }  // namespace
 
 NodeId tile_root_of(const NodeId& id) {
@@ -103,15 +118,8 @@ TileGroup::TileGroup(const TileContext& ctx, const Patch& parent_patch, std::vec
 
 template <class InGroup>
 void TileGroup::prepare(const TileContext& ctx, InGroup in_group) {
-    Patch& q = level_;
-    q.finish(ctx.topo, ctx.scheme);
-    std::vector<bool> region(q.tris.size());
-    for (std::size_t t = 0; t < region.size(); ++t) region[t] = in_group(q.tris[t].id);
-    // At max_level too: the corners' displacement tells a leaf there that
-    // the rule would have refined it.
-    const std::vector<bool> needed = q.points_around(region);
-    next_ = q.next_positions(ctx.topo, ctx.scheme, &needed);
-    memo_ = std::make_unique<ShadingMemo>(q);
+    finish_for_records(ctx, level_, in_group, next_);
+    memo_ = std::make_unique<ShadingMemo>(level_);
 }
 
 TileGroup::~TileGroup() = default;
@@ -158,13 +166,9 @@ void Tile::build_level(int j) {
     // computed here and dropped after.
     advance_frontier();
     Patch& q = frontier_;
-    q.finish(ctx_->topo, ctx_->scheme);
-    std::vector<bool> in_this_tile(q.tris.size());
-    for (std::size_t t = 0; t < q.tris.size(); ++t) in_this_tile[t] = in_tile(q.tris[t].id);
-    // At max_level too: the corners' displacement tells a leaf there that
-    // the rule would have refined it.
-    const std::vector<bool> needed = q.points_around(in_this_tile);
-    const Patch next = q.next_positions(ctx_->topo, ctx_->scheme, &needed);
+    Patch next;
+    const std::vector<bool> in_this_tile =
+        finish_for_records(*ctx_, q, [&](const NodeId& id) { return in_tile(id); }, next);
     ShadingMemo memo(q);
     fill_level(j, q, next, memo, in_this_tile);
     // Waits, without rings and edges, for the next level or child tiles.

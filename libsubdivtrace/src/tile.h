@@ -69,8 +69,8 @@ public:
 
 private:
     friend class Tile;
-    /// Finishes the level and computes the next level's points around the
-    /// triangles `in_group` flags.
+    /// Finishes the level, computes the next level's points around the
+    /// triangles `in_group` accepts, and the shading memo.
     template <class InGroup>
     void prepare(const TileContext& ctx, InGroup in_group);
     Patch level_;
