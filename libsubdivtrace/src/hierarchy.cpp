@@ -107,7 +107,7 @@ public:
     HierarchyImpl(const Mesh& mesh, SchemeKind scheme, int max_level,
                   std::shared_ptr<TileCache> shared_cache, ShellKind shell_kind)
         : topo(mesh),
-          context{topo, scheme, shell_kind, max_level, &nodes_built, &tile_build_ns},
+          context{topo, scheme, shell_kind, max_level, &nodes_built, &tile_build_ns, nullptr, {}},
           roots(context),
           cache(std::move(shared_cache)),
           tiles(cache->impl()) {
@@ -155,8 +155,14 @@ public:
             if (root.level == 0) {
                 std::call_once(chunks_built, [&] {
                     chunks = std::make_unique<detail::FaceChunks>(topo, detail::k_face_chunk_size);
-                    chunk_bytes.store(chunks->owned_bytes(), std::memory_order_relaxed);
+                    chunk_built = std::make_unique<std::atomic<bool>[]>(chunks->chunk_count());
+                    chunk_bytes.store(chunks->owned_bytes() + chunks->chunk_count(), std::memory_order_relaxed);
                 });
+                // A chunk built before lost this tile to eviction: it is
+                // rebuilt alone, as the chunk's other evicted tiles are
+                // rarely asked for again before they would be evicted anew
+                // (docs/benchmarks.md, "Rebuilding evicted tiles alone").
+                if (chunk_built[chunks->chunk_index(root.face)].exchange(true, std::memory_order_relaxed)) return keys;
                 const auto [begin, end] = chunks->chunk_of(root.face);
                 for (const std::uint32_t* f = begin; f != end; ++f) keys.push_back({id, root_node(*f)});
             } else {
@@ -204,6 +210,7 @@ public:
     /// Base faces by chunk, made when the first base triangle's tile is.
     std::once_flag chunks_built;
     std::unique_ptr<detail::FaceChunks> chunks;
+    std::unique_ptr<std::atomic<bool>[]> chunk_built;  ///< per chunk: its tiles were built once
     std::atomic<std::size_t> chunk_bytes{0};  ///< for counters(), which may run meanwhile
     std::shared_ptr<TileCache> cache;
     detail::TileCacheImpl& tiles;
