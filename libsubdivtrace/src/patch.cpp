@@ -67,14 +67,11 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     ring_curve.clear();
     corner_normal.assign(3 * tris.size(), Vec3(0.0));
     corner_sector.assign(3 * tris.size(), 0);
+    if (scheme == SchemeKind::loop) draw.resize(verts.size(), Vec3(0.0));
     for (std::uint32_t v = 0; v < n; ++v)
         if (derived[v].has_ring) finish_vertex(topo, scheme, v);
-    if (scheme != SchemeKind::loop) {
-        for (PatchVertex& pv : verts) {
-            pv.draw = pv.position;
-            pv.has_draw = pv.has_position;
-        }
-    }
+    if (scheme != SchemeKind::loop)
+        for (PatchVertex& pv : verts) pv.has_draw = pv.has_position;
 }
 
 namespace {
@@ -195,7 +192,7 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
         // Loop draws a vertex at its limit point, from its birth-level ring.
         thread_local VertexRing ring;
         fill_vertex_ring(v, ring);
-        pv.draw = loop_limit_point(ring);
+        draw[v] = loop_limit_point(ring);
         pv.has_draw = true;
     }
 }
@@ -235,11 +232,13 @@ void Patch::drop_derived() {
     release(edges);
     release(tri_edges);
     verts.shrink_to_fit();
+    draw.shrink_to_fit();
     tris.shrink_to_fit();
 }
 
 std::size_t Patch::owned_bytes() const {
-    return verts.capacity() * sizeof(PatchVertex) + tris.capacity() * sizeof(PatchTriangle) +
+    return (verts.capacity() * sizeof(PatchVertex) + draw.capacity() * sizeof(Vec3)) +
+           tris.capacity() * sizeof(PatchTriangle) +
            derived.capacity() * sizeof(VertexDerived) + corner_normal.capacity() * sizeof(Vec3) +
            corner_sector.capacity() * sizeof(std::uint16_t) +
            rings.capacity() * sizeof(Ring) + ring_nbrs.capacity() * sizeof(std::uint32_t) +
@@ -487,10 +486,13 @@ void Patch::compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch
 
     // Old vertices: interpolating schemes keep them; Loop moves them.
     VertexRing ring;
+    if (!draw.empty()) {
+        next.draw.assign(next.verts.size(), Vec3(0.0));
+        std::copy(draw.begin(), draw.end(), next.draw.begin());
+    }
     for (std::uint32_t v = 0; v < old_count; ++v) {
         const PatchVertex& pv = verts[v];
         PatchVertex& nv = next.verts[v];
-        nv.draw = pv.draw;
         nv.has_draw = pv.has_draw;
         if (scheme != SchemeKind::loop) {
             nv.position = pv.position;
@@ -539,6 +541,7 @@ Patch Patch::copy_of(const Patch& src, const std::vector<bool>& keep) {
     out.tris.reserve(kept);
     // A patch has fewer vertices than triangles, but for a sliver of a border.
     out.verts.reserve(std::min(src.verts.size(), kept + 8));
+    if (!src.draw.empty()) out.draw.reserve(out.verts.capacity());
     for (std::size_t t = 0; t < src.tris.size(); ++t) {
         if (!keep[t]) continue;
         PatchTriangle tri = src.tris[t];
@@ -546,6 +549,7 @@ Patch Patch::copy_of(const Patch& src, const std::vector<bool>& keep) {
             if (remap[v] == UINT32_MAX) {
                 remap[v] = static_cast<std::uint32_t>(out.verts.size());
                 out.verts.push_back(src.verts[v]);
+                if (!src.draw.empty()) out.draw.push_back(src.draw[v]);
             }
             v = remap[v];
         }

@@ -33,9 +33,8 @@ namespace subdivtrace::detail {
 struct PatchVertex {
     VertexKey key;
     Vec3 position{0.0};
-    Vec3 draw{0.0};  ///< where leaves draw it: Loop limit point, else position
     bool has_position = false;
-    bool has_draw = false;
+    bool has_draw = false;  ///< where leaves draw it is known (Patch::drawn_at)
     /// Triangles around it at its level in the whole mesh (its ring is whole
     /// in a patch that holds this many).
     std::uint16_t true_ring = 0;
@@ -77,6 +76,11 @@ class Patch {
 public:
     int level = 0;
     std::vector<PatchVertex> verts;
+    /// Loop only, per vertex: where leaves draw it, its limit point, computed
+    /// at its birth level and carried down. Empty for the interpolating
+    /// schemes, which draw at the position (a copy in every vertex was a
+    /// third of a vertex's bytes).
+    std::vector<Vec3> draw;
     std::vector<PatchTriangle> tris;
     std::vector<VertexDerived> derived;  ///< per vertex, after finish()
     /// Normal at each corner slot 3t + c, after finish() (where the corner's
@@ -160,6 +164,9 @@ public:
     void keep_only(const std::vector<bool>& keep) { trim_to(keep); }
 
     void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
+
+    /// Where leaves draw vertex v (valid where verts[v].has_draw).
+    const Vec3& drawn_at(std::uint32_t v) const { return draw.empty() ? verts[v].position : draw[v]; }
 
     /// Computes v's corner normals (corner_normal, has_normal) if it has a
     /// whole ring and they are not computed yet: finish() leaves them to
