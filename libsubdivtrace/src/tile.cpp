@@ -103,7 +103,7 @@ TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::si
     prepare(ctx, in_chunk);
 }
 
-TileGroup::TileGroup(const TileContext& ctx, const Patch& parent_patch, std::vector<NodeId> roots) {
+TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vector<NodeId> roots) {
     const BuildTimer timer(ctx.build_ns);
     const int level = roots.front().level;
     const auto in_group = [&](const NodeId& id) {
@@ -111,8 +111,8 @@ TileGroup::TileGroup(const TileContext& ctx, const Patch& parent_patch, std::vec
         const NodeId a = ancestor_at(id, level);
         return std::find(roots.begin(), roots.end(), a) != roots.end();
     };
-    // The roots' children and their border, cut from the parent tile's last patch.
-    level_ = Patch::copy_of(parent_patch, parent_patch.band(in_group));
+    // The roots' children and their border, cut from the level below the parent.
+    level_ = Patch::copy_of(below_parent, below_parent.band(in_group));
     prepare(ctx, in_group);
 }
 
@@ -137,25 +137,27 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     // The frontier a lone tile would keep: its triangles and their border,
     // without rings and edges (a copy each: a patch shared by the group
     // outlived the tiles that were charged for it once some were evicted).
-    frontier_ = Patch::copy_of(q, q.band(in_root));
+    if (needs_frontier(1)) frontier_ = Patch::copy_of(q, q.band(in_root));
     ready_.store(1, std::memory_order_release);
+}
+
+bool Tile::needs_frontier(int j) const {
+    // A deeper level of this tile, or child tiles below its deepest one.
+    return j < depth_ || root_.level + depth_ < ctx_->max_level;
 }
 
 bool Tile::in_tile(const NodeId& id) const {
     return id.face == root_.face && id.level > root_.level && ancestor_at(id, root_.level) == root_;
 }
 
-void Tile::advance_frontier() {
-    // The frontier's triangles split, cut to the tile's triangles and their
-    // border: the next level's start, or after the deepest level where
-    // child tiles start (its positions are recomputed here from scratch, as
-    // only a tile that goes deeper pays for that level's topology).
-    Patch& q = frontier_;
+Patch Tile::split_band(Patch& q) const {
+    // Its positions are recomputed here from scratch, as only a tile that
+    // goes deeper pays for that level's topology.
     q.finish(ctx_->topo, ctx_->scheme);
     std::vector<bool> kept;
     Patch next = q.subdivide_band(ctx_->topo, ctx_->scheme, [&](const NodeId& id) { return in_tile(id); }, kept);
     next.keep_only(kept);
-    frontier_ = std::move(next);
+    return next;
 }
 
 void Tile::build_level(int j) {
@@ -164,7 +166,7 @@ void Tile::build_level(int j) {
     // root.level + j, cut to the tile's triangles and their border; the
     // records of that level read the next level's points around them,
     // computed here and dropped after.
-    advance_frontier();
+    frontier_ = split_band(frontier_);
     Patch& q = frontier_;
     Patch next;
     const std::vector<bool> in_this_tile =
@@ -172,7 +174,8 @@ void Tile::build_level(int j) {
     ShadingMemo memo(q);
     fill_level(j, q, next, memo, in_this_tile);
     // Waits, without rings and edges, for the next level or child tiles.
-    q.drop_derived();
+    if (needs_frontier(j)) q.drop_derived();
+    else frontier_ = Patch();
     ready_.store(j, std::memory_order_release);
 }
 
@@ -304,22 +307,11 @@ void Tile::ensure_level(int j) const {
     if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
 }
 
-const Patch& Tile::last_patch() const {
-    if (last_ready_.load(std::memory_order_acquire)) return frontier_;
+Patch Tile::below_deepest() const {
     ensure_level(depth_);
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!last_ready_.load(std::memory_order_relaxed)) {
-        const std::size_t before = bytes_held();
-        {
-            const BuildTimer timer(ctx_->build_ns);
-            auto* self = const_cast<Tile*>(this);
-            if (root_.level + depth_ < ctx_->max_level) self->advance_frontier();
-            else self->frontier_ = Patch();  // no tile starts below max_level
-        }
-        if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
-        last_ready_.store(true, std::memory_order_release);
-    }
-    return frontier_;
+    const BuildTimer timer(ctx_->build_ns);
+    Patch q = frontier_;
+    return split_band(q);
 }
 
 namespace {

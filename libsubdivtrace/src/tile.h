@@ -61,8 +61,8 @@ public:
     /// Base triangles' tiles: `count` faces, ascending.
     TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count);
     /// Tiles rooted at `roots`, nodes of the deepest level of the tile whose
-    /// last patch is `parent_patch`.
-    TileGroup(const TileContext& ctx, const Patch& parent_patch, std::vector<NodeId> roots);
+    /// below_deepest() is `below_parent`.
+    TileGroup(const TileContext& ctx, const Patch& below_parent, std::vector<NodeId> roots);
     ~TileGroup();
     TileGroup(const TileGroup&) = delete;
     TileGroup& operator=(const TileGroup&) = delete;
@@ -124,10 +124,13 @@ public:
     /// this tile), in child_of order.
     void children(const NodeId& parent, std::array<NodeRecord, 4>& out) const;
 
-    /// The level below its deepest one (its triangles' children plus their
-    /// border, not finished), where child tiles start; builds every level
-    /// first. Empty at max_level.
-    const Patch& last_patch() const;
+    /// The level below its deepest one (its triangles' children and their
+    /// band, not finished), where child tiles start (TileGroup). Computed
+    /// anew on each call: the tile keeps only its deepest level, as the one
+    /// below is about 3x the tile's other bytes (the caller keeps it while it
+    /// builds children, hierarchy.cpp). Builds every level first; only for a
+    /// tile whose deepest level is above max_level.
+    Patch below_deepest() const;
 
     /// What the tile holds now: the levels built and its frontier. Grows as
     /// levels are built (TileContext::resized).
@@ -135,6 +138,8 @@ public:
 
 private:
     bool in_tile(const NodeId& id) const;
+    /// Whether the frontier is kept once level j is built.
+    bool needs_frontier(int j) const;
     std::size_t index_in_level(const NodeId& id) const;
     std::size_t vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const;
     using GridPoint = std::array<std::uint32_t, 2>;
@@ -151,21 +156,19 @@ private:
     void fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
                     const std::vector<bool>& in_this_tile);
     void ensure_level(int j) const;
-    /// Splits the frontier (the last built level) into the next level's
-    /// tile triangles and their border.
-    void advance_frontier();
+    /// The triangles of `q` (a level of this tile with its border; finished
+    /// here) split, cut to the tile's triangles and their border.
+    Patch split_band(Patch& q) const;
 
     const TileContext* ctx_;
     NodeId root_;
     int depth_ = 0;
     std::vector<TileLevel> levels_;
     Vec3 origin_{0.0};  ///< shells are stored relative to it
-    /// The deepest level built (without rings and edges), or once
-    /// last_patch() was asked for, the level below the tile.
+    /// The deepest level built (without rings and edges).
     Patch frontier_;
     mutable std::mutex mutex_;
     mutable std::atomic<int> ready_{0};
-    mutable std::atomic<bool> last_ready_{false};
 };
 
 /// Root of the tile that holds node `id` (level >= 1).

@@ -144,8 +144,8 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 const std::vector<NodeId> siblings{child_of(above, 0), child_of(above, 1), child_of(above, 2),
                                                    child_of(above, 3)};
                 REQUIRE(std::count(siblings.begin(), siblings.end(), child_root) == 1);
-                TileGroup child_alone_group(ctx, alone.last_patch(), {child_root});
-                TileGroup child_siblings(ctx, with_chunk.last_patch(), siblings);
+                TileGroup child_alone_group(ctx, alone.below_deepest(), {child_root});
+                TileGroup child_siblings(ctx, with_chunk.below_deepest(), siblings);
                 const Tile child_alone(ctx, child_root, child_alone_group);
                 const Tile child_with_siblings(ctx, child_root, child_siblings);
                 compare(child_alone, child_with_siblings, child_root, 3);
