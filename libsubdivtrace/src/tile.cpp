@@ -91,7 +91,7 @@ std::vector<NodeId> tile_group_of(const NodeId& root) {
     return group;
 }
 
-TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count) {
+TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count) : tiles_(count) {
     const BuildTimer timer(ctx.build_ns);
     const auto in_chunk = [&](const NodeId& id) { return std::binary_search(faces, faces + count, id.face); };
     Patch base = base_patch(ctx.topo, faces, count);
@@ -103,7 +103,8 @@ TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::si
     prepare(ctx, in_chunk);
 }
 
-TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vector<NodeId> roots) {
+TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vector<NodeId> roots)
+    : tiles_(roots.size()) {
     const BuildTimer timer(ctx.build_ns);
     const int level = roots.front().level;
     const auto in_group = [&](const NodeId& id) {
@@ -137,7 +138,15 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     // The frontier a lone tile would keep: its triangles and their border,
     // without rings and edges (a copy each: a patch shared by the group
     // outlived the tiles that were charged for it once some were evicted).
-    if (needs_frontier(1)) frontier_ = Patch::copy_of(q, q.band(in_root));
+    // A group of one is that band already, in the same order: taken whole.
+    if (needs_frontier(1)) {
+        if (group.tiles_ == 1) {
+            frontier_ = std::move(q);
+            frontier_.drop_derived();
+        } else {
+            frontier_ = Patch::copy_of(q, q.band(in_root));
+        }
+    }
     ready_.store(1, std::memory_order_release);
 }
 

@@ -73,6 +73,8 @@ private:
     /// triangles `in_group` accepts, and the shading memo.
     template <class InGroup>
     void prepare(const TileContext& ctx, InGroup in_group);
+    /// Tiles it is for: a lone tile takes level_ as its frontier (Tile::Tile).
+    std::size_t tiles_;
     Patch level_;
     Patch next_;
     std::unique_ptr<ShadingMemo> memo_;
