@@ -23,9 +23,9 @@ class FaceChunks {
 public:
     FaceChunks(const BaseTopology& topo, std::size_t max_size);
 
-    /// The faces in the chunk of `face` (ascending, `face` among them).
     /// The chunk that holds `face`, in [0, chunk_count()).
     std::uint32_t chunk_index(std::uint32_t face) const { return chunk_[face]; }
+    /// The faces in the chunk of `face` (ascending, `face` among them).
     std::pair<const std::uint32_t*, const std::uint32_t*> chunk_of(std::uint32_t face) const {
         const std::uint32_t c = chunk_[face];
         return {members_.data() + offsets_[c], members_.data() + offsets_[c + 1]};

@@ -205,7 +205,7 @@ public:
                 std::call_once(chunks_built, [&] {
                     chunks = std::make_unique<detail::FaceChunks>(topo, detail::k_face_chunk_size);
                     chunk_built = std::make_unique<std::atomic<bool>[]>(chunks->chunk_count());
-                    chunk_bytes.store(chunks->owned_bytes() + chunks->chunk_count(), std::memory_order_relaxed);
+                    chunk_bytes.store(chunks->owned_bytes() + chunks->chunk_count() * sizeof(std::atomic<bool>), std::memory_order_relaxed);
                 });
                 // A chunk built before lost this tile to eviction: it is
                 // rebuilt alone, as the chunk's other evicted tiles are
@@ -229,8 +229,10 @@ public:
                 std::sort(faces.begin(), faces.end());
                 start = std::make_unique<detail::TileGroup>(context, faces.data(), faces.size());
             } else {
-                // Tiles below a tile start from its last patch (the parent is
-                // rebuilt in turn if it was evicted: values never depend on the cache).
+                // Tiles below a tile start from the level below the parent's
+                // deepest one, which this thread keeps for recent parents (the
+                // parent is rebuilt in turn if it was evicted: values never
+                // depend on the cache).
                 const NodeId parent_root = detail::parent_tile_root(root);
                 const std::shared_ptr<const CachedTile> parent = tile(parent_root);
                 thread_local BelowParents below;
