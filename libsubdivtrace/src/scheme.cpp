@@ -9,6 +9,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 
+#include "corner_angle.h"
+
 namespace subdivtrace {
 
 namespace {
@@ -231,7 +233,7 @@ Vec3 angle_weighted_normal(const Vec3& p, const Vec3& q, const Vec3& r) {
     if (!(len > 0.0) || !std::isfinite(len)) return Vec3(0.0);
     // atan2 of |cross| and dot is accurate for tiny and near-straight angles,
     // where acos of a normalised dot is not.
-    const double angle = std::atan2(len, glm::dot(e1, e2));
+    const double angle = detail::corner_angle(len, glm::dot(e1, e2));
     return n * (angle / len);
 }
 
@@ -243,8 +245,8 @@ void angle_weighted_normals(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec3
         return;
     }
     const Vec3 unit = n / len;
-    const double a0 = std::atan2(len, glm::dot(p1 - p0, p2 - p0));
-    const double a1 = std::atan2(len, glm::dot(p2 - p1, p0 - p1));
+    const double a0 = detail::corner_angle(len, glm::dot(p1 - p0, p2 - p0));
+    const double a1 = detail::corner_angle(len, glm::dot(p2 - p1, p0 - p1));
     // The angles sum to pi: the third costs no atan2, and differs from its
     // own atan2 by a few ulps of pi at most, far below what a weight feels.
     const double a2 = std::max(0.0, glm::pi<double>() - a0 - a1);
