@@ -297,13 +297,14 @@ void Patch::build_edges(const BaseTopology& topo) {
                 h = (h + 1) & mask;
             if (table[h].id == k_unset) {
                 table[h] = {lo, hi, face, static_cast<std::uint32_t>(edges.size())};
-                PatchEdge edge;
+                // Filled in place: a local PatchEdge copied in whole right
+                // after its bytes were written stalled on store forwarding.
+                PatchEdge& edge = edges.emplace_back();
                 const bool u_first = key_less(verts[u].key, verts[w].key);
                 edge.a = u_first ? u : w;
                 edge.b = u_first ? w : u;
                 edge.valid = derived[edge.a].has_ring && derived[edge.b].has_ring;
                 edge.curve = base_edge >= 0 && topo.is_crease(tris[t].id.face, base_edge);
-                edges.push_back(edge);
             }
             PatchEdge& edge = edges[table[h].id];
             tri_edges[3 * t + e] = table[h].id;
@@ -533,21 +534,32 @@ void Patch::compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch
 }
 
 Patch Patch::copy_of(const Patch& src, const std::vector<bool>& keep) {
+    std::vector<std::uint32_t> kept;
+    kept.reserve(static_cast<std::size_t>(std::count(keep.begin(), keep.end(), true)));
+    for (std::uint32_t t = 0; t < src.tris.size(); ++t)
+        if (keep[t]) kept.push_back(t);
+    return copy_of(src, kept);
+}
+
+Patch Patch::copy_of(const Patch& src, const std::vector<std::uint32_t>& kept) {
     Patch out;
     out.level = src.level;
+    // New index of each source vertex; only the entries set here are reset
+    // after, so a small copy of a large patch stays small.
     thread_local std::vector<std::uint32_t> remap;
-    remap.assign(src.verts.size(), UINT32_MAX);
-    const std::size_t kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), true));
-    out.tris.reserve(kept);
+    if (remap.size() < src.verts.size()) remap.resize(src.verts.size(), UINT32_MAX);
+    out.tris.reserve(kept.size());
     // A patch has fewer vertices than triangles, but for a sliver of a border.
-    out.verts.reserve(std::min(src.verts.size(), kept + 8));
+    out.verts.reserve(std::min(src.verts.size(), kept.size() + 8));
     if (!src.draw.empty()) out.draw.reserve(out.verts.capacity());
-    for (std::size_t t = 0; t < src.tris.size(); ++t) {
-        if (!keep[t]) continue;
+    thread_local std::vector<std::uint32_t> sources;
+    sources.clear();
+    for (std::uint32_t t : kept) {
         PatchTriangle tri = src.tris[t];
         for (std::uint32_t& v : tri.v) {
             if (remap[v] == UINT32_MAX) {
                 remap[v] = static_cast<std::uint32_t>(out.verts.size());
+                sources.push_back(v);
                 out.verts.push_back(src.verts[v]);
                 if (!src.draw.empty()) out.draw.push_back(src.draw[v]);
             }
@@ -555,7 +567,45 @@ Patch Patch::copy_of(const Patch& src, const std::vector<bool>& keep) {
         }
         out.tris.push_back(tri);
     }
+    for (std::uint32_t v : sources) remap[v] = UINT32_MAX;
     return out;
+}
+
+std::vector<std::uint32_t> Patch::band_around(const std::vector<std::uint32_t>& region) const {
+    // As band(): the region's vertices, then every vertex of a triangle at
+    // one of them; the band is every triangle at any of those. Marks are
+    // reset after use, so only the band's own size is paid for.
+    thread_local std::vector<std::uint8_t> vertex_mark, triangle_mark;
+    thread_local std::vector<std::uint32_t> near;
+    if (vertex_mark.size() < verts.size()) vertex_mark.resize(verts.size(), 0);
+    if (triangle_mark.size() < tris.size()) triangle_mark.resize(tris.size(), 0);
+    near.clear();
+    const auto add = [&](std::uint32_t v) {
+        if (vertex_mark[v]) return;
+        vertex_mark[v] = 1;
+        near.push_back(v);
+    };
+    for (std::uint32_t t : region)
+        for (std::uint32_t v : tris[t].v) add(v);
+    const std::size_t region_vertices = near.size();
+    for (std::size_t k = 0; k < region_vertices; ++k) {
+        const std::uint32_t v = near[k];
+        for (std::uint32_t s = incident_offsets[v]; s < incident_offsets[v + 1]; ++s)
+            for (std::uint32_t w : tris[incident_slots[s] / 3].v) add(w);
+    }
+    std::vector<std::uint32_t> band;
+    for (std::uint32_t v : near) {
+        for (std::uint32_t s = incident_offsets[v]; s < incident_offsets[v + 1]; ++s) {
+            const std::uint32_t t = incident_slots[s] / 3;
+            if (triangle_mark[t]) continue;
+            triangle_mark[t] = 1;
+            band.push_back(t);
+        }
+        vertex_mark[v] = 0;
+    }
+    for (std::uint32_t t : band) triangle_mark[t] = 0;
+    std::sort(band.begin(), band.end());
+    return band;
 }
 
 void Patch::trim_to(const std::vector<bool>& keep) {

@@ -129,6 +129,13 @@ public:
     }
     /// A new patch holding only `src`'s triangles flagged in `keep`.
     static Patch copy_of(const Patch& src, const std::vector<bool>& keep);
+    /// The same for the triangles listed in `kept` (ascending): its cost
+    /// follows the copy's size, not `src`'s.
+    static Patch copy_of(const Patch& src, const std::vector<std::uint32_t>& kept);
+    /// band() of the triangles listed in `region`, as ascending indices,
+    /// found through the incident lists (after finish()): its cost follows
+    /// the band's size, where band() scans the whole patch.
+    std::vector<std::uint32_t> band_around(const std::vector<std::uint32_t>& region) const;
 
     /// The per-vertex displacement of the next level, and the next level's
     /// vertex positions alone (no triangles, no keys; index v for old vertex

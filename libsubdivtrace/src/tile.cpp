@@ -91,7 +91,8 @@ std::vector<NodeId> tile_group_of(const NodeId& root) {
     return group;
 }
 
-TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count) : tiles_(count) {
+TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count)
+    : tiles_(count), faces_(faces, faces + count) {
     const BuildTimer timer(ctx.build_ns);
     const auto in_chunk = [&](const NodeId& id) { return std::binary_search(faces, faces + count, id.face); };
     Patch base = base_patch(ctx.topo, faces, count);
@@ -101,6 +102,35 @@ TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::si
     level_ = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
     level_.keep_only(kept);
     prepare(ctx, in_chunk);
+    // Each face's triangles, in ascending order (a counting sort).
+    face_tri_offsets_.assign(count + 1, 0);
+    std::vector<std::uint32_t> position(level_.tris.size(), UINT32_MAX);
+    for (std::uint32_t t = 0; t < level_.tris.size(); ++t) {
+        const auto it = std::lower_bound(faces_.begin(), faces_.end(), level_.tris[t].id.face);
+        if (it == faces_.end() || *it != level_.tris[t].id.face) continue;
+        position[t] = static_cast<std::uint32_t>(it - faces_.begin());
+        ++face_tri_offsets_[position[t] + 1];
+    }
+    for (std::size_t k = 0; k < count; ++k) face_tri_offsets_[k + 1] += face_tri_offsets_[k];
+    face_tris_.resize(face_tri_offsets_.back());
+    std::vector<std::uint32_t> fill(face_tri_offsets_.begin(), face_tri_offsets_.end() - 1);
+    for (std::uint32_t t = 0; t < level_.tris.size(); ++t)
+        if (position[t] != UINT32_MAX) face_tris_[fill[position[t]]++] = t;
+}
+
+template <class InRoot>
+std::vector<std::uint32_t> TileGroup::triangles_of(const NodeId& root, InRoot in_root) const {
+    if (root.level == 0 && !faces_.empty()) {
+        const auto it = std::lower_bound(faces_.begin(), faces_.end(), root.face);
+        if (it != faces_.end() && *it == root.face) {
+            const std::size_t k = static_cast<std::size_t>(it - faces_.begin());
+            return {face_tris_.begin() + face_tri_offsets_[k], face_tris_.begin() + face_tri_offsets_[k + 1]};
+        }
+    }
+    std::vector<std::uint32_t> tris;
+    for (std::uint32_t t = 0; t < level_.tris.size(); ++t)
+        if (in_root(level_.tris[t].id)) tris.push_back(t);
+    return tris;
 }
 
 TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vector<NodeId> roots)
@@ -132,9 +162,8 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     Patch& q = group.level_;
     // A base triangle's tile holds every triangle of its face.
     const auto in_root = [&](const NodeId& id) { return root.level == 0 ? id.face == root.face : in_tile(id); };
-    std::vector<bool> in_this_tile(q.tris.size());
-    for (std::size_t t = 0; t < q.tris.size(); ++t) in_this_tile[t] = in_root(q.tris[t].id);
-    fill_level(1, q, group.next_, *group.memo_, in_this_tile);
+    const std::vector<std::uint32_t> tile_tris = group.triangles_of(root, in_root);
+    fill_level(1, q, group.next_, *group.memo_, tile_tris);
     // The frontier a lone tile would keep: its triangles and their border,
     // without rings and edges (a copy each: a patch shared by the group
     // outlived the tiles that were charged for it once some were evicted).
@@ -144,7 +173,7 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
             frontier_ = std::move(q);
             frontier_.drop_derived();
         } else {
-            frontier_ = Patch::copy_of(q, q.band(in_root));
+            frontier_ = Patch::copy_of(q, q.band_around(tile_tris));
         }
     }
     ready_.store(1, std::memory_order_release);
@@ -180,8 +209,11 @@ void Tile::build_level(int j) {
     Patch next;
     const std::vector<bool> in_this_tile =
         finish_for_records(*ctx_, q, [&](const NodeId& id) { return in_tile(id); }, next);
+    std::vector<std::uint32_t> tile_tris;
+    for (std::uint32_t t = 0; t < in_this_tile.size(); ++t)
+        if (in_this_tile[t]) tile_tris.push_back(t);
     ShadingMemo memo(q);
-    fill_level(j, q, next, memo, in_this_tile);
+    fill_level(j, q, next, memo, tile_tris);
     // Waits, without rings and edges, for the next level or child tiles.
     if (needs_frontier(j)) q.drop_derived();
     else frontier_ = Patch();
@@ -189,7 +221,7 @@ void Tile::build_level(int j) {
 }
 
 void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
-                      const std::vector<bool>& in_this_tile) {
+                      const std::vector<std::uint32_t>& tile_tris) {
     TileLevel& out = levels_[j - 1];
     const std::size_t n = std::size_t{1} << j;
     out.position.resize((n + 1) * (n + 2) / 2);
@@ -200,8 +232,7 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
     if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.position.size());
     out.shells.resize(n * n);
     std::vector<Shell> shells(n * n);
-    for (std::uint32_t t = 0; t < q.tris.size(); ++t) {
-        if (!in_this_tile[t]) continue;
+    for (std::uint32_t t : tile_tris) {
         const PatchTriangle& tri = q.tris[t];
         for (std::uint32_t v : tri.v) q.ensure_normal(ctx_->topo, ctx_->scheme, v);
         const NodeRecord rec = make_record(*ctx_, q, &next, t, memo);

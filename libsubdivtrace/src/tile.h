@@ -73,9 +73,19 @@ private:
     /// triangles `in_group` accepts, and the shading memo.
     template <class InGroup>
     void prepare(const TileContext& ctx, InGroup in_group);
+    /// The triangles of level_ in tile `root` (ascending), and the test
+    /// that picks them.
+    template <class InRoot>
+    std::vector<std::uint32_t> triangles_of(const NodeId& root, InRoot in_root) const;
     /// Tiles it is for: a lone tile takes level_ as its frontier (Tile::Tile).
     std::size_t tiles_;
     Patch level_;
+    /// A chunk's faces (ascending) and, per face, its triangles in level_
+    /// (CSR): each base triangle's tile finds its own without scanning the
+    /// chunk's level, which made a chunk's tiles cost its size squared.
+    std::vector<std::uint32_t> faces_;
+    std::vector<std::uint32_t> face_tri_offsets_;
+    std::vector<std::uint32_t> face_tris_;
     Patch next_;
     std::unique_ptr<ShadingMemo> memo_;
 };
@@ -153,10 +163,10 @@ private:
     NodeRecord assemble(const TileLevel& level, const NodeId& id) const;
     void build_level(int j);
     /// Level j's records (levels_[j - 1]) from its patch `q` (finished, the
-    /// tile's triangles flagged in `in_this_tile`) and the next level's
+    /// tile's triangles listed in `tile_tris`) and the next level's
     /// points around them.
     void fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
-                    const std::vector<bool>& in_this_tile);
+                    const std::vector<std::uint32_t>& tile_tris);
     void ensure_level(int j) const;
     /// The triangles of `q` (a level of this tile with its border; finished
     /// here) split, cut to the tile's triangles and their border.
