@@ -33,9 +33,9 @@ std::uint16_t true_incident_count(const BaseTopology& topo, const VertexKey& key
 
 }  // namespace
 
-void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
-    const std::size_t n = verts.size();
+void Patch::build_incidence() {
     // Incident (triangle, corner) slots per vertex, CSR.
+    const std::size_t n = verts.size();
     std::vector<std::uint32_t>& offsets = incident_offsets;
     std::vector<std::uint32_t>& slots = incident_slots;
     offsets.assign(n + 1, 0);
@@ -43,11 +43,16 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
         for (std::uint32_t v : t.v) ++offsets[v + 1];
     for (std::size_t v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
     slots.resize(offsets.back());
-    {
-        std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
-        for (std::uint32_t t = 0; t < tris.size(); ++t)
-            for (std::uint32_t c = 0; c < 3; ++c) slots[fill[tris[t].v[c]]++] = 3 * t + c;
-    }
+    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+    for (std::uint32_t t = 0; t < tris.size(); ++t)
+        for (std::uint32_t c = 0; c < 3; ++c) slots[fill[tris[t].v[c]]++] = 3 * t + c;
+}
+
+void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
+    const std::size_t n = verts.size();
+    build_incidence();
+    const std::vector<std::uint32_t>& offsets = incident_offsets;
+    const std::vector<std::uint32_t>& slots = incident_slots;
 
     // Which vertices have their whole ring (with positions) in the patch;
     // then the edges, which need to know it.

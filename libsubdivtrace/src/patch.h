@@ -106,7 +106,8 @@ public:
     /// that creases split into sectors; Butterfly reads it).
     std::vector<std::uint8_t> ring_curve;
 
-    /// Incident corner slots (3t + c) of each vertex, CSR (built by finish()).
+    /// Incident corner slots (3t + c) of each vertex, CSR (built by finish()
+    /// or build_incidence()).
     std::vector<std::uint32_t> incident_offsets;
     std::vector<std::uint32_t> incident_slots;
 
@@ -117,6 +118,10 @@ public:
     /// Rings, completeness, edges, curves, normals and (Loop) draw positions
     /// of vertices born at this level.
     void finish(const BaseTopology& topo, SchemeKind scheme);
+    /// The incident lists alone (finish() builds them first): what
+    /// band_around() reads, for a patch cut many times before it is finished.
+    void build_incidence();
+    bool has_incidence() const { return incident_offsets.size() == verts.size() + 1; }
 
     /// The triangles with a vertex at most one ring from `in_region`
     /// triangles' vertices (so those vertices' rings are whole).
@@ -133,7 +138,7 @@ public:
     /// follows the copy's size, not `src`'s.
     static Patch copy_of(const Patch& src, const std::vector<std::uint32_t>& kept);
     /// band() of the triangles listed in `region`, as ascending indices,
-    /// found through the incident lists (after finish()): its cost follows
+    /// found through the incident lists (has_incidence()): its cost follows
     /// the band's size, where band() scans the whole patch.
     std::vector<std::uint32_t> band_around(const std::vector<std::uint32_t>& region) const;
 

@@ -142,8 +142,17 @@ TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vec
         const NodeId a = ancestor_at(id, level);
         return std::find(roots.begin(), roots.end(), a) != roots.end();
     };
-    // The roots' children and their border, cut from the level below the parent.
-    level_ = Patch::copy_of(below_parent, below_parent.band(in_group));
+    // The roots' children and their border, cut from the level below the
+    // parent (its siblings are cut from the same patch: hierarchy.cpp gives
+    // it incident lists once, so each cut costs its own size).
+    if (below_parent.has_incidence()) {
+        std::vector<std::uint32_t> region;
+        for (std::uint32_t t = 0; t < below_parent.tris.size(); ++t)
+            if (in_group(below_parent.tris[t].id)) region.push_back(t);
+        level_ = Patch::copy_of(below_parent, below_parent.band_around(region));
+    } else {
+        level_ = Patch::copy_of(below_parent, below_parent.band(in_group));
+    }
     prepare(ctx, in_group);
 }
 
