@@ -130,7 +130,6 @@ struct BelowParents {
         next = (next + 1) % k_slots;
         release(s);
         s.patch = parent.below_deepest();
-        s.patch.build_incidence();  // each child tile cuts its band through them
         s.owner = owner;
         s.root = root;
         s.bytes = s.patch.owned_bytes();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 
 #include "patch.h"
 #include "patch_records.h"
@@ -143,16 +144,14 @@ TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vec
         return std::find(roots.begin(), roots.end(), a) != roots.end();
     };
     // The roots' children and their border, cut from the level below the
-    // parent (its siblings are cut from the same patch: hierarchy.cpp gives
-    // it incident lists once, so each cut costs its own size).
-    if (below_parent.has_incidence()) {
-        std::vector<std::uint32_t> region;
-        for (std::uint32_t t = 0; t < below_parent.tris.size(); ++t)
-            if (in_group(below_parent.tris[t].id)) region.push_back(t);
-        level_ = Patch::copy_of(below_parent, below_parent.band_around(region));
-    } else {
-        level_ = Patch::copy_of(below_parent, below_parent.band(in_group));
-    }
+    // parent (its siblings are cut from the same patch, whose incident lists
+    // below_deepest() built once, so each cut costs its own size).
+    if (!below_parent.has_incidence())
+        throw std::logic_error("subdivtrace tile: a child tile's start has no incident lists (Tile::below_deepest builds them)");
+    std::vector<std::uint32_t> region;
+    for (std::uint32_t t = 0; t < below_parent.tris.size(); ++t)
+        if (in_group(below_parent.tris[t].id)) region.push_back(t);
+    level_ = Patch::copy_of(below_parent, below_parent.band_around(region));
     prepare(ctx, in_group);
 }
 
@@ -360,7 +359,9 @@ Patch Tile::below_deepest() const {
     ensure_level(depth_);
     const BuildTimer timer(ctx_->build_ns);
     Patch q = frontier_;
-    return split_band(q);
+    Patch below = split_band(q);
+    below.build_incidence();  // each child tile cuts its band through them
+    return below;
 }
 
 namespace {

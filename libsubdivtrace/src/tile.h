@@ -137,7 +137,8 @@ public:
     void children(const NodeId& parent, std::array<NodeRecord, 4>& out) const;
 
     /// The level below its deepest one (its triangles' children and their
-    /// band, not finished), where child tiles start (TileGroup). Computed
+    /// band, not finished but with incident lists), where child tiles start
+    /// (TileGroup). Computed
     /// anew on each call: the tile keeps only its deepest level, as the one
     /// below is about 3x the tile's other bytes (the caller keeps it while it
     /// builds children, hierarchy.cpp). Builds every level first; only for a
