@@ -7,6 +7,7 @@
 
 #include <glm/common.hpp>
 
+#include "float_step.h"
 #include "parallel.h"
 
 namespace subdivtrace::detail {
@@ -279,7 +280,7 @@ float offset_down(double origin, double x) {
     const double d = x - origin;
     if (!(d >= -k_float_max)) return -k_float_inf;  // also NaN: never cull
     float f = d > k_float_max ? k_float_max : static_cast<float>(d);
-    while (origin + static_cast<double>(f) > x) f = std::nextafter(f, -k_float_inf);
+    while (origin + static_cast<double>(f) > x) f = next_float_down(f);
     return f;
 }
 
@@ -288,7 +289,7 @@ float offset_up(double origin, double x) {
     const double d = x - origin;
     if (!(d <= k_float_max)) return k_float_inf;
     float f = d < -k_float_max ? -k_float_max : static_cast<float>(d);
-    while (origin + static_cast<double>(f) < x) f = std::nextafter(f, k_float_inf);
+    while (origin + static_cast<double>(f) < x) f = next_float_up(f);
     return f;
 }
 

@@ -6,6 +6,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "float_step.h"
+
 namespace subdivtrace::detail {
 
 namespace {
@@ -25,19 +27,17 @@ constexpr double k_rounding_slack = 1e-9;
 /// 1e6 from the origin holds it.
 constexpr int k_stencil_rounding_steps = 64 * 17;
 
-constexpr float k_float_inf = std::numeric_limits<float>::infinity();
-
 }  // namespace
 
 float round_down(double x) {
     float f = static_cast<float>(x);
-    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    if (static_cast<double>(f) > x) f = next_float_down(f);
     return f;
 }
 
 float round_up(double x) {
     float f = static_cast<float>(x);
-    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    if (static_cast<double>(f) < x) f = next_float_up(f);
     return f;
 }
 
@@ -45,8 +45,8 @@ CompactShell CompactShell::from(const Shell& s, const Vec3& origin) {
     // Relative to a nearby origin, so float keeps the detail of a mesh far
     // from (0,0,0). One float step further out covers the double rounding of
     // the subtraction.
-    const auto down = [](double x) { return std::nextafter(round_down(x), -k_float_inf); };
-    const auto up = [](double x) { return std::nextafter(round_up(x), k_float_inf); };
+    const auto down = [](double x) { return next_float_down(round_down(x)); };
+    const auto up = [](double x) { return next_float_up(round_up(x)); };
     CompactShell c;
     for (int a = 0; a < 3; ++a) {
         c.lo[a] = down(s.lo[a] - origin[a]);

@@ -1,0 +1,53 @@
+// next_float_up / next_float_down against libm's nextafter, the independent
+// truth: every special value, and random bit patterns of every class.
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include <catch2/catch.hpp>
+
+#include "float_step.h"
+
+using subdivtrace::detail::next_float_down;
+using subdivtrace::detail::next_float_up;
+
+namespace {
+
+constexpr float k_inf = std::numeric_limits<float>::infinity();
+
+/// Same bits, or both NaN.
+bool same(float a, float b) {
+    if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+    std::uint32_t x, y;
+    std::memcpy(&x, &a, sizeof x);
+    std::memcpy(&y, &b, sizeof y);
+    return x == y;
+}
+
+}  // namespace
+
+TEST_CASE("float steps equal nextafter at special values", "[shell][float]") {
+    const float lowest = std::numeric_limits<float>::lowest(), highest = std::numeric_limits<float>::max();
+    const float tiny = std::numeric_limits<float>::denorm_min(), normal = std::numeric_limits<float>::min();
+    for (float f : {0.0f, -0.0f, tiny, -tiny, normal, -normal, 1.0f, -1.0f, highest, lowest, k_inf, -k_inf,
+                    std::numeric_limits<float>::quiet_NaN()}) {
+        INFO("f = " << f);
+        CHECK(same(next_float_up(f), std::nextafter(f, k_inf)));
+        CHECK(same(next_float_down(f), std::nextafter(f, -k_inf)));
+    }
+}
+
+TEST_CASE("float steps equal nextafter on random bit patterns", "[shell][float]") {
+    std::mt19937 rng(20261203);
+    int mismatches = 0;
+    for (int i = 0; i < 4000000; ++i) {
+        std::uint32_t bits = rng();
+        if (i % 4 == 0) bits &= 0x807fffffu;  // denormals and zeros
+        float f;
+        std::memcpy(&f, &bits, sizeof f);
+        if (!same(next_float_up(f), std::nextafter(f, k_inf))) ++mismatches;
+        if (!same(next_float_down(f), std::nextafter(f, -k_inf))) ++mismatches;
+    }
+    CHECK(mismatches == 0);
+}
