@@ -96,8 +96,11 @@ bool may_be_on_curve(const BaseTopology& topo, const VertexKey& key) {
     return false;
 }
 
-/// The triangles around v as (from, to, slot), in patch order.
-void unsorted_pairs(const Patch& p, std::uint32_t v, std::vector<SlotPair>& pairs) {
+/// The triangles around v as (from, to, slot), in the canonical order: the
+/// incident lists follow the patch's triangles, which every patch holds in
+/// the hierarchy's order (patch.h), so every patch that holds this whole
+/// ring sums and walks it in the same order.
+void ring_pairs(const Patch& p, std::uint32_t v, std::vector<SlotPair>& pairs) {
     pairs.clear();
     for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
         const std::uint32_t slot = p.incident_slots[k];
@@ -105,18 +108,6 @@ void unsorted_pairs(const Patch& p, std::uint32_t v, std::vector<SlotPair>& pair
         const std::uint32_t c = slot % 3;
         pairs.push_back({t.v[(c + 1) % 3], t.v[(c + 2) % 3], slot});
     }
-}
-
-/// The same in the canonical order: sorted by key (then base face, for a
-/// duplicated base triangle), so every patch that holds this whole ring
-/// sums and walks it in the same order.
-void sorted_pairs(const Patch& p, std::uint32_t v, std::vector<SlotPair>& pairs) {
-    unsorted_pairs(p, v, pairs);
-    std::sort(pairs.begin(), pairs.end(), [&](const SlotPair& x, const SlotPair& y) {
-        if (p.verts[x.from].key != p.verts[y.from].key) return key_less(p.verts[x.from].key, p.verts[y.from].key);
-        if (p.verts[x.to].key != p.verts[y.to].key) return key_less(p.verts[x.to].key, p.verts[y.to].key);
-        return p.tris[x.slot / 3].id.face < p.tris[y.slot / 3].id.face;
-    });
 }
 
 }  // namespace
@@ -128,8 +119,7 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
     // Loop's and Butterfly's rings are walked in the canonical order; curves
     // and sectors do not depend on it.
     thread_local std::vector<SlotPair> pairs;
-    if (scheme != SchemeKind::normal) sorted_pairs(*this, v, pairs);
-    else if (on_curve) unsorted_pairs(*this, v, pairs);
+    if (scheme != SchemeKind::normal || on_curve) ring_pairs(*this, v, pairs);
 
     // Curves and sectors, where a boundary or crease can pass.
     if (on_curve) {
@@ -394,13 +384,12 @@ void Patch::ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint
     VertexDerived& dv = derived[v];
     if (dv.has_normal || !dv.has_ring) return;
     const PatchVertex& pv = verts[v];
-    // One normal per sector, summed in the canonical order.
-    thread_local std::vector<SlotPair> pairs;
-    sorted_pairs(*this, v, pairs);
+    // One normal per sector, summed in the canonical order (ring_pairs).
+    const std::uint32_t first = incident_offsets[v], last = incident_offsets[v + 1];
     // Sectors as finish_vertex() labelled them (all 0 for one sector).
     std::uint32_t sector_count = 1;
-    for (const SlotPair& pr : pairs)
-        sector_count = std::max<std::uint32_t>(sector_count, corner_sector[pr.slot] + 1u);
+    for (std::uint32_t k = first; k < last; ++k)
+        sector_count = std::max<std::uint32_t>(sector_count, corner_sector[incident_slots[k]] + 1u);
 
     // The given normals of a base vertex (normal scheme, level 0), else
     // angle-weighted Gouraud over the sector's triangles.
@@ -409,15 +398,17 @@ void Patch::ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint
                        (level == 0 || k_given_normals_every_level);
     thread_local std::vector<Vec3> sums;
     sums.assign(sector_count, Vec3(0.0));
-    for (std::size_t k = 0; k < pairs.size(); ++k) {
-        const SlotPair& pr = pairs[k];
-        const Vec3 g = given ? topo.given_normal(tris[pr.slot / 3].id.face, pv.key.a) : Vec3(0.0);
-        sums[corner_sector[pr.slot]] += g != Vec3(0.0) ? g
-                                          : angle_weighted_normal(pv.position, verts[pr.from].position,
-                                                                  verts[pr.to].position);
+    for (std::uint32_t k = first; k < last; ++k) {
+        const std::uint32_t slot = incident_slots[k];
+        const PatchTriangle& t = tris[slot / 3];
+        const std::uint32_t c = slot % 3;
+        const Vec3 g = given ? topo.given_normal(t.id.face, pv.key.a) : Vec3(0.0);
+        sums[corner_sector[slot]] += g != Vec3(0.0) ? g
+                                     : angle_weighted_normal(pv.position, verts[t.v[(c + 1) % 3]].position,
+                                                             verts[t.v[(c + 2) % 3]].position);
     }
     for (Vec3& sum : sums) sum = finish_normal(sum);
-    for (const SlotPair& pr : pairs) corner_normal[pr.slot] = sums[corner_sector[pr.slot]];
+    for (std::uint32_t k = first; k < last; ++k) corner_normal[incident_slots[k]] = sums[corner_sector[incident_slots[k]]];
     dv.has_normal = true;
 }
 

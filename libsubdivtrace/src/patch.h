@@ -9,10 +9,15 @@
 // region's values are those of global uniform subdivision.
 //
 // Both sides of every edge compute from bit-identical data: each value is
-// evaluated from canonically ordered inputs (rings sorted by VertexKey, edges
-// oriented from the smaller key), so every patch that holds a vertex with its
-// whole stencil gets the same bits, and values whose stencil is cut off by the
-// border are marked invalid and never read.
+// evaluated from canonically ordered inputs (rings in the order of their
+// triangles, edges oriented from the smaller key), so every patch that holds a
+// vertex with its whole stencil gets the same bits, and values whose stencil
+// is cut off by the border are marked invalid and never read.
+//
+// A patch's triangles are in the hierarchy's order: base faces ascending,
+// each triangle's children together in child order (base_patch sorts;
+// subdividing, copying and trimming keep the order). The incident lists,
+// built in triangle order, are then already canonical: no ring is sorted.
 
 #include <array>
 #include <cstdint>
