@@ -6,6 +6,8 @@
 // approximation of atan on [-0.2, 0.66] (relative error about 1e-16), after
 // reducing the ratio of the two arguments to [0, 1].
 
+#include <cmath>
+
 namespace subdivtrace::detail {
 
 /// atan2(cross_length, dot) for cross_length >= 0 (finite): an angle in
@@ -14,18 +16,24 @@ inline double corner_angle(double cross_length, double dot) {
     constexpr double pi = 3.14159265358979323846;
     // Bits of pi/2 and pi/4 that a double misses.
     constexpr double half_pi_lo = 6.123233995736765886130e-17;
+    // Every operation below runs whatever the case, and the cases only
+    // select among results: without branches or conditional arithmetic
+    // (which the compiler may not execute speculatively), a loop of corner
+    // angles vectorises (angle_weighted_fan).
     const double y = cross_length;
-    const double x = dot < 0.0 ? -dot : dot;
-    if (!(y > 0.0)) return dot < 0.0 ? pi : 0.0;
+    const double x = std::fabs(dot);
+    // A straight corner (y == 0) is 0 or pi, selected at the end.
+    const bool straight = !(y > 0.0);
     // The angle of (x, y) in the first quadrant is atan(lo / hi), or pi/2
     // minus it when y > x; atan(t) = pi/4 + atan((t - 1) / (t + 1)) moves a
-    // ratio t > 0.66 into (-0.21, 0]. One division either way; the choices
-    // are selects, not branches (they are unpredictable).
+    // ratio t > 0.66 into (-0.21, 0]. One division either way.
     const bool steep = y > x;
     const double lo = steep ? x : y;
     const double hi = steep ? y : x;
     const bool shifted = lo > 0.66 * hi;
-    const double r = shifted ? (lo - hi) / (lo + hi) : lo / hi;
+    const double difference = lo - hi, sum = lo + hi;
+    // With y == 0 and x == 0 it divides 0 by 1, not by 0.
+    const double r = (shifted ? difference : lo) / (shifted ? sum : straight ? 1.0 : hi);
     const double z = r * r;
     const double p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z -
                        7.500855792314704667340e1) * z - 1.228866684490136173410e2) * z -
@@ -36,8 +44,11 @@ inline double corner_angle(double cross_length, double dot) {
     const double base = shifted ? pi / 4 : 0.0;
     const double base_lo = shifted ? 0.5 * half_pi_lo : 0.0;
     const double a = base + (r + (r * (z * p / q) + base_lo));
-    const double first = steep ? (pi / 2 - a) + half_pi_lo : a;
-    return dot < 0.0 ? (pi - first) + 2 * half_pi_lo : first;
+    const double from_y_axis = (pi / 2 - a) + half_pi_lo;
+    const double first = steep ? from_y_axis : a;
+    const double obtuse = (pi - first) + 2 * half_pi_lo;
+    const double angle = dot < 0.0 ? obtuse : first;
+    return straight ? (dot < 0.0 ? pi : 0.0) : angle;
 }
 
 }  // namespace subdivtrace::detail

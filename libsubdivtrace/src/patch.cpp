@@ -389,33 +389,43 @@ void Patch::ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint
     const bool given = scheme == SchemeKind::normal && topo.has_given_normals() &&
                        pv.key.kind == VertexKey::base_vertex &&
                        (level == 0 || k_given_normals_every_level);
-    const auto weight = [&](std::uint32_t slot) {
-        const PatchTriangle& t = tris[slot / 3];
-        const Vec3 g = given ? topo.given_normal(t.id.face, pv.key.a) : Vec3(0.0);
-        if (g != Vec3(0.0)) return g;
-        const std::uint32_t c = slot % 3;
-        return angle_weighted_normal(pv.position, verts[t.v[(c + 1) % 3]].position,
-                                     verts[t.v[(c + 2) % 3]].position);
-    };
     // One normal per sector, summed in the canonical order (ring_pairs).
-    const std::uint32_t first = incident_offsets[v], last = incident_offsets[v + 1];
+    const std::uint32_t first = incident_offsets[v], count = incident_offsets[v + 1] - first;
+    thread_local std::vector<Vec3> from, to, weight;
+    from.resize(count);
+    to.resize(count);
+    weight.resize(count);
+    for (std::uint32_t k = 0; k < count; ++k) {
+        const std::uint32_t slot = incident_slots[first + k];
+        const PatchTriangle& t = tris[slot / 3];
+        const std::uint32_t c = slot % 3;
+        from[k] = verts[t.v[(c + 1) % 3]].position;
+        to[k] = verts[t.v[(c + 2) % 3]].position;
+    }
+    angle_weighted_fan(pv.position, from.data(), to.data(), count, weight.data());
+    if (given)
+        for (std::uint32_t k = 0; k < count; ++k) {
+            const Vec3 g = topo.given_normal(tris[incident_slots[first + k] / 3].id.face, pv.key.a);
+            if (g != Vec3(0.0)) weight[k] = g;
+        }
     if (dv.single_sector) {
         Vec3 sum(0.0);
-        for (std::uint32_t k = first; k < last; ++k) sum += weight(incident_slots[k]);
+        for (std::uint32_t k = 0; k < count; ++k) sum += weight[k];
         const Vec3 normal = finish_normal(sum);
-        for (std::uint32_t k = first; k < last; ++k) corner_normal[incident_slots[k]] = normal;
+        for (std::uint32_t k = 0; k < count; ++k) corner_normal[incident_slots[first + k]] = normal;
         dv.has_normal = true;
         return;
     }
     // Sectors as finish_vertex() labelled them.
     std::uint32_t sector_count = 1;
-    for (std::uint32_t k = first; k < last; ++k)
-        sector_count = std::max<std::uint32_t>(sector_count, corner_sector[incident_slots[k]] + 1u);
+    for (std::uint32_t k = 0; k < count; ++k)
+        sector_count = std::max<std::uint32_t>(sector_count, corner_sector[incident_slots[first + k]] + 1u);
     thread_local std::vector<Vec3> sums;
     sums.assign(sector_count, Vec3(0.0));
-    for (std::uint32_t k = first; k < last; ++k) sums[corner_sector[incident_slots[k]]] += weight(incident_slots[k]);
+    for (std::uint32_t k = 0; k < count; ++k) sums[corner_sector[incident_slots[first + k]]] += weight[k];
     for (Vec3& sum : sums) sum = finish_normal(sum);
-    for (std::uint32_t k = first; k < last; ++k) corner_normal[incident_slots[k]] = sums[corner_sector[incident_slots[k]]];
+    for (std::uint32_t k = 0; k < count; ++k)
+        corner_normal[incident_slots[first + k]] = sums[corner_sector[incident_slots[first + k]]];
     dv.has_normal = true;
 }
 

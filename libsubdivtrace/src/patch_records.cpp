@@ -52,8 +52,9 @@ Vec3 compute_shading_normal(const TileContext& ctx, const Patch& p, const Patch&
     // point) for each of its triangles in the corner's sector.
     const bool one_sector = p.derived[v].single_sector;
     const std::uint16_t sector = p.corner_sector[3 * t + c];
-    const Vec3 centre = next.verts[v].position;
-    Vec3 sum(0.0);
+    thread_local std::vector<Vec3> from, to, weight;
+    from.clear();
+    to.clear();
     for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
         const std::uint32_t slot = p.incident_slots[k];
         if (!one_sector && p.corner_sector[slot] != sector) continue;
@@ -61,9 +62,13 @@ Vec3 compute_shading_normal(const TileContext& ctx, const Patch& p, const Patch&
         const PatchEdge& out = p.edges[p.tri_edges[slot]];
         const PatchEdge& in = p.edges[p.tri_edges[first + (slot % 3 + 2) % 3]];
         if (!out.valid || !in.valid) stencil_cut("an edge point next to a corner");
-        sum += angle_weighted_normal(centre, next.verts[out.point].position,
-                                     next.verts[in.point].position);
+        from.push_back(next.verts[out.point].position);
+        to.push_back(next.verts[in.point].position);
     }
+    weight.resize(from.size());
+    angle_weighted_fan(next.verts[v].position, from.data(), to.data(), from.size(), weight.data());
+    Vec3 sum(0.0);
+    for (const Vec3& w : weight) sum += w;
     const Vec3 n = finish_normal(sum);
     return n == Vec3(0.0) ? own : n;
 }
@@ -126,9 +131,13 @@ Vec3 compute_edge_midpoint_normal(const TileContext& ctx, const Patch& p, const 
         const Vec3 n = loop_tangent_normal(6, [&](std::size_t k) -> const Vec3& { return ring[k]; });
         if (n != Vec3(0.0)) return n;
     }
+    // The triangles (m, ring[k], ring[k + 1]), around the ring when it closes.
+    const std::size_t triangles = closed ? count : count - 1;
+    std::array<Vec3, 6> to, weight;
+    for (std::size_t k = 0; k < triangles; ++k) to[k] = ring[(k + 1) % count];
+    angle_weighted_fan(m, ring.data(), to.data(), triangles, weight.data());
     Vec3 sum(0.0);
-    for (std::size_t k = 0; k + 1 < count + (closed ? 1 : 0); ++k)
-        sum += angle_weighted_normal(m, ring[k], ring[(k + 1) % count]);
+    for (std::size_t k = 0; k < triangles; ++k) sum += weight[k];
     return finish_normal(sum);
 }
 

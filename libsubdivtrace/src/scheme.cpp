@@ -3,8 +3,10 @@
 // ModifiedButterflyT on closed meshes (tests/unit/test_schemes.cpp holds us to it).
 #include "subdivtrace/scheme.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
@@ -235,6 +237,33 @@ Vec3 angle_weighted_normal(const Vec3& p, const Vec3& q, const Vec3& r) {
     // where acos of a normalised dot is not.
     const double angle = detail::corner_angle(len, glm::dot(e1, e2));
     return n * (angle / len);
+}
+
+void angle_weighted_fan(const Vec3& centre, const Vec3* from, const Vec3* to, std::size_t count, Vec3* out) {
+    // angle_weighted_normal's steps, eight triangles at a time: gather the
+    // cross products, then the angles and scales in a loop without branches
+    // (it vectorises), then the products.
+    constexpr std::size_t k_block = 8;
+    for (std::size_t start = 0; start < count; start += k_block) {
+        const std::size_t n = std::min(k_block, count - start);
+        Vec3 cross[k_block];
+        double len[k_block], dot[k_block], scale[k_block];
+        for (std::size_t k = 0; k < n; ++k) {
+            const Vec3 e1 = from[start + k] - centre;
+            const Vec3 e2 = to[start + k] - centre;
+            cross[k] = glm::cross(e1, e2);
+            len[k] = glm::length(cross[k]);
+            dot[k] = glm::dot(e1, e2);
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            const bool usable = (len[k] > 0.0) & (len[k] <= std::numeric_limits<double>::max());
+            scale[k] = detail::corner_angle(len[k], dot[k]) / (usable ? len[k] : 1.0);
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            const bool usable = (len[k] > 0.0) & (len[k] <= std::numeric_limits<double>::max());
+            out[start + k] = usable ? cross[k] * scale[k] : Vec3(0.0);
+        }
+    }
 }
 
 void angle_weighted_normals(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec3* out) {

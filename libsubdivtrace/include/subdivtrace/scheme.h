@@ -3,6 +3,7 @@
 /// The subdivision operator F (DESIGN.md section 3): which scheme, and the
 /// stencils that compute one level's new positions from the previous level.
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -109,6 +110,11 @@ Vec3 butterfly_edge_point(const EdgeStencil& s);
 /// the unit face normal times the corner angle at p (Thuermer & Wuethrich 1998).
 /// Zero for degenerate triangles, never NaN.
 Vec3 angle_weighted_normal(const Vec3& p, const Vec3& q, const Vec3& r);
+/// angle_weighted_normal(centre, from[k], to[k]) for each k < count, into
+/// out[k], with the same bits: the triangles around one vertex side by side,
+/// so their square roots and divisions (most of a normal's cost) run
+/// vectorised.
+void angle_weighted_fan(const Vec3& centre, const Vec3* from, const Vec3* to, std::size_t count, Vec3* out);
 /// The same at all three corners of triangle (p0, p1, p2), into out[0..2]
 /// (one cross product for the three).
 void angle_weighted_normals(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec3* out);
