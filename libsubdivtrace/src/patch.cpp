@@ -606,19 +606,21 @@ std::vector<std::uint32_t> Patch::band_around(const std::vector<std::uint32_t>& 
         for (std::uint32_t s = incident_offsets[v]; s < incident_offsets[v + 1]; ++s)
             for (std::uint32_t w : tris[incident_slots[s] / 3].v) add(w);
     }
-    std::vector<std::uint32_t> band;
+    // Collected in scratch, returned in one allocation of its own size.
+    thread_local std::vector<std::uint32_t> found;
+    found.clear();
     for (std::uint32_t v : near) {
         for (std::uint32_t s = incident_offsets[v]; s < incident_offsets[v + 1]; ++s) {
             const std::uint32_t t = incident_slots[s] / 3;
             if (triangle_mark[t]) continue;
             triangle_mark[t] = 1;
-            band.push_back(t);
+            found.push_back(t);
         }
         vertex_mark[v] = 0;
     }
-    for (std::uint32_t t : band) triangle_mark[t] = 0;
-    std::sort(band.begin(), band.end());
-    return band;
+    for (std::uint32_t t : found) triangle_mark[t] = 0;
+    std::sort(found.begin(), found.end());
+    return std::vector<std::uint32_t>(found.begin(), found.end());
 }
 
 void Patch::trim_to(const std::vector<bool>& keep) {
@@ -647,7 +649,14 @@ Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::siz
         stamp[x] = sc.generation;
         return true;
     };
-    std::vector<std::uint32_t> near_vertices;
+    // A tile's one face reuses this thread's scratch (growing these from
+    // empty was most of its allocations); a large region has its own.
+    std::vector<std::uint32_t> own_near, own_faces, own_local;
+    thread_local std::vector<std::uint32_t> small_near, small_faces, small_local;
+    std::vector<std::uint32_t>& near_vertices = stamped ? own_near : small_near;
+    std::vector<std::uint32_t>& faces = stamped ? own_faces : small_faces;
+    std::vector<std::uint32_t>& local = stamped ? own_local : small_local;
+    near_vertices.clear();
     for (std::size_t k = 0; k < count; ++k)
         for (std::uint32_t c : mesh.triangles[region[k]])
             for (std::uint32_t f : topo.faces_of_vertex(c))
@@ -657,7 +666,7 @@ Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::siz
         std::sort(near_vertices.begin(), near_vertices.end());
         near_vertices.erase(std::unique(near_vertices.begin(), near_vertices.end()), near_vertices.end());
     }
-    std::vector<std::uint32_t> faces;
+    faces.clear();
     for (std::uint32_t v : near_vertices)
         for (std::uint32_t f : topo.faces_of_vertex(v))
             if (!stamped || first_time(sc.face_stamp, f)) faces.push_back(f);
@@ -667,7 +676,7 @@ Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::siz
 
     Patch p;
     p.level = 0;
-    std::vector<std::uint32_t> local;  // base vertex ids of the patch's vertices
+    local.clear();  // base vertex ids of the patch's vertices
     if (stamped) {
         ++sc.generation;  // vertex_stamp now marks the patch's vertices
         for (std::uint32_t f : faces)

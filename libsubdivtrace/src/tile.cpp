@@ -218,6 +218,7 @@ void Tile::build_level(int j) {
     const std::vector<bool> in_this_tile =
         finish_for_records(*ctx_, q, [&](const NodeId& id) { return in_tile(id); }, next);
     std::vector<std::uint32_t> tile_tris;
+    tile_tris.reserve(std::size_t{1} << (2 * j));  // the tile's whole level
     for (std::uint32_t t = 0; t < in_this_tile.size(); ++t)
         if (in_this_tile[t]) tile_tris.push_back(t);
     ShadingMemo memo(q);
