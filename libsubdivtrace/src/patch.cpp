@@ -277,15 +277,21 @@ void Patch::build_edges(const BaseTopology& topo) {
     while (size < 4 * tris.size()) size *= 2;
     table.assign(size, Entry{0, 0, 0, k_unset});
     const std::size_t mask = size - 1;
-    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+    const std::uint32_t triangle_count = static_cast<std::uint32_t>(tris.size());
+    for (std::uint32_t t = 0; t < triangle_count; ++t) {
+        // A copy: the stores below could alias tris[t] as far as the
+        // compiler knows, and would make it reload the triangle per edge.
+        const PatchTriangle tri = tris[t];
+        int base_edges[3];
+        for (int e = 0; e < 3; ++e) base_edges[e] = base_edge_under(tri.id, e);
         for (std::uint32_t e = 0; e < 3; ++e) {
-            const std::uint32_t u = tris[t].v[e], w = tris[t].v[(e + 1) % 3];
+            const std::uint32_t u = tri.v[e], w = tri.v[(e + 1) % 3];
             const std::uint32_t lo = std::min(u, w), hi = std::max(u, w);
             // An edge inside a base triangle belongs to that triangle alone
             // (its point is a face point): a duplicate base triangle over the
             // same vertices has its own. Edges on a base edge are shared.
-            const int base_edge = base_edge_under(tris[t].id, static_cast<int>(e));
-            const std::uint32_t face = base_edge >= 0 ? k_unset : tris[t].id.face;
+            const int base_edge = base_edges[e];
+            const std::uint32_t face = base_edge >= 0 ? k_unset : tri.id.face;
             std::size_t h = (lo * 0x9E3779B1u ^ hi * 0x85EBCA77u ^ face * 0xC2B2AE3Du) & mask;
             while (table[h].id != k_unset &&
                    !(table[h].lo == lo && table[h].hi == hi && table[h].face == face))
@@ -299,7 +305,7 @@ void Patch::build_edges(const BaseTopology& topo) {
                 edge.a = u_first ? u : w;
                 edge.b = u_first ? w : u;
                 edge.valid = derived[edge.a].has_ring && derived[edge.b].has_ring;
-                edge.curve = base_edge >= 0 && topo.is_crease(tris[t].id.face, base_edge);
+                edge.curve = base_edge >= 0 && topo.is_crease(tri.id.face, base_edge);
             }
             PatchEdge& edge = edges[table[h].id];
             tri_edges[3 * t + e] = table[h].id;
@@ -311,6 +317,15 @@ void Patch::build_edges(const BaseTopology& topo) {
 }
 
 Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
+    if (scheme == SchemeKind::normal && !e.curve) {
+        // Most edges: the two endpoints' normals in the edge's sector (any
+        // triangle on it), without filling a whole stencil.
+        const std::uint32_t t = e.slot[0] / 3, c = e.slot[0] % 3;
+        const bool a_first = tris[t].v[c] == e.a;
+        return normal_edge_point(verts[e.a].position, verts[e.b].position,
+                                 corner_normal[3 * t + (a_first ? c : (c + 1) % 3)],
+                                 corner_normal[3 * t + (a_first ? (c + 1) % 3 : c)]);
+    }
     EdgeStencil s;
     s.a = verts[e.a].position;
     s.b = verts[e.b].position;
@@ -319,16 +334,7 @@ Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
         fill_curve_end(e.a, e.b, s.has_a_far, s.a_far, s.normal_a);
         fill_curve_end(e.b, e.a, s.has_b_far, s.b_far, s.normal_b);
     }
-    if (scheme == SchemeKind::normal) {
-        if (!e.curve) {
-            // Both endpoints' normals in the edge's sector: any triangle on it.
-            const std::uint32_t t = e.slot[0] / 3, c = e.slot[0] % 3;
-            const bool a_first = tris[t].v[c] == e.a;
-            s.normal_a = corner_normal[3 * t + (a_first ? c : (c + 1) % 3)];
-            s.normal_b = corner_normal[3 * t + (a_first ? (c + 1) % 3 : c)];
-        }
-        return subdivtrace::edge_point(scheme, s);
-    }
+    if (scheme == SchemeKind::normal) return subdivtrace::edge_point(scheme, s);  // a curve edge
     // As LevelTopology: interior when exactly two triangles share the edge;
     // c is the third vertex of the one that runs a -> b, d of the other.
     s.interior = e.slot_count == 2;
@@ -380,9 +386,8 @@ void Patch::fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, 
     }
 }
 
-void Patch::ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v) {
+void Patch::compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v) {
     VertexDerived& dv = derived[v];
-    if (dv.has_normal || !dv.has_ring) return;
     const PatchVertex& pv = verts[v];
     // The given normals of a base vertex (normal scheme, level 0), else
     // angle-weighted Gouraud over the sector's triangles.
@@ -468,8 +473,9 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
     // Each triangle becomes four, in the hierarchy's child order.
     next.tris.resize(4 * tris.size());
     std::vector<bool> keyed(edges.size(), false);
-    for (std::uint32_t t = 0; t < tris.size(); ++t) {
-        const PatchTriangle& pt = tris[t];
+    const std::uint32_t triangle_count = static_cast<std::uint32_t>(tris.size());
+    for (std::uint32_t t = 0; t < triangle_count; ++t) {
+        const PatchTriangle pt = tris[t];  // a copy, as in build_edges
         const auto grid = node_corner_grid(pt.id);
         for (int e = 0; e < 3; ++e) {
             const std::uint32_t edge = tri_edges[3 * t + e];

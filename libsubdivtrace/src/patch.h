@@ -188,7 +188,10 @@ public:
     /// Computes v's corner normals (corner_normal, has_normal) if it has a
     /// whole ring and they are not computed yet: finish() leaves them to
     /// the first reader, as most of a patch's border never needs them.
-    void ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
+    void ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v) {
+        // Inline: most calls find the normals there already.
+        if (!derived[v].has_normal && derived[v].has_ring) compute_normal(topo, scheme, v);
+    }
 
     /// Gives v the corner normals normal_of(slot), for each corner slot 3t + c
     /// at v, instead of computing them (if it has a whole ring and none yet):
@@ -208,6 +211,7 @@ public:
 
 private:
     void build_edges(const BaseTopology& topo);
+    void compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
     Patch subdivide_topology(const BaseTopology& topo) const;
     void compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch& next,
                            const std::vector<bool>* needed);
