@@ -6,20 +6,6 @@
 
 namespace subdivtrace {
 
-void Shell::grow(const Vec3& p) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-}
-
-void Shell::grow_both(const Vec3& p) {
-    grow(p);
-    if (axis != Vec3(0.0)) {
-        const double d = glm::dot(axis, p);
-        slab_min = std::min(slab_min, d);
-        slab_max = std::max(slab_max, d);
-    }
-}
-
 void Shell::pad(double margin) {
     lo -= Vec3(margin);
     hi += Vec3(margin);

@@ -4,8 +4,12 @@
 /// a convex volume that holds every descendant of a node up to max_level,
 /// and the conservative ray tests against it.
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "subdivtrace/mesh.h"
 
@@ -35,9 +39,20 @@ struct Shell {
     double slab_max = 0.0;
 
     bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
-    void grow(const Vec3& p);
+    // Inline: the shells of a tile's nodes grow by every point below them.
+    void grow(const Vec3& p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
     /// Grows the box and the slab to hold p.
-    void grow_both(const Vec3& p);
+    void grow_both(const Vec3& p) {
+        grow(p);
+        if (axis != Vec3(0.0)) {
+            const double d = glm::dot(axis, p);
+            slab_min = std::min(slab_min, d);
+            slab_max = std::max(slab_max, d);
+        }
+    }
     /// Pads box and slab by `margin` in every direction.
     void pad(double margin);
     bool contains(const Vec3& p, double slack = 0.0) const;
