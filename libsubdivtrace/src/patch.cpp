@@ -435,7 +435,7 @@ void Patch::compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uin
 }
 
 Patch Patch::next_positions(const BaseTopology& topo, SchemeKind scheme,
-                            const std::vector<bool>* needed) {
+                            const Flags* needed) {
     Patch next;
     next.level = level + 1;
     next.verts.resize(verts.size() + edges.size());
@@ -443,8 +443,8 @@ Patch Patch::next_positions(const BaseTopology& topo, SchemeKind scheme,
     return next;
 }
 
-std::vector<bool> Patch::points_around(const std::vector<bool>& region) const {
-    std::vector<bool> needed(verts.size() + edges.size(), false);
+Flags Patch::points_around(const Flags& region) const {
+    Flags needed(verts.size() + edges.size(), false);
     for (std::uint32_t t = 0; t < tris.size(); ++t) {
         if (!region[t]) continue;
         for (std::uint32_t v : tris[t].v) {
@@ -472,7 +472,7 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
     }
     // Each triangle becomes four, in the hierarchy's child order.
     next.tris.resize(4 * tris.size());
-    std::vector<bool> keyed(edges.size(), false);
+    Flags keyed(edges.size(), false);
     const std::uint32_t triangle_count = static_cast<std::uint32_t>(tris.size());
     for (std::uint32_t t = 0; t < triangle_count; ++t) {
         const PatchTriangle pt = tris[t];  // a copy, as in build_edges
@@ -500,7 +500,7 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
 }
 
 void Patch::compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch& next,
-                              const std::vector<bool>* needed) {
+                              const Flags* needed) {
     const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
     const auto wanted = [&](std::uint32_t nv) { return needed == nullptr || (*needed)[nv]; };
 
@@ -552,7 +552,7 @@ void Patch::compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch
     }
 }
 
-Patch Patch::copy_of(const Patch& src, const std::vector<bool>& keep) {
+Patch Patch::copy_of(const Patch& src, const Flags& keep) {
     std::vector<std::uint32_t> kept;
     kept.reserve(static_cast<std::size_t>(std::count(keep.begin(), keep.end(), true)));
     for (std::uint32_t t = 0; t < src.tris.size(); ++t)
@@ -629,7 +629,7 @@ std::vector<std::uint32_t> Patch::band_around(const std::vector<std::uint32_t>& 
     return std::vector<std::uint32_t>(found.begin(), found.end());
 }
 
-void Patch::trim_to(const std::vector<bool>& keep) {
+void Patch::trim_to(const Flags& keep) {
     // Derived data (rings, edges) refers to the old indices: rebuilt later.
     *this = copy_of(*this, keep);
 }

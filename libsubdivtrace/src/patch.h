@@ -29,6 +29,11 @@
 
 namespace subdivtrace::detail {
 
+/// One flag per triangle, vertex or point (regions, bands, needed points):
+/// bytes, as std::vector<bool>'s packed bits cost a few instructions per
+/// read and write in the kernels' loops.
+using Flags = std::vector<std::uint8_t>;
+
 /// Reports a value read outside a patch's complete region: the border
 /// arithmetic above guarantees every value a tile reads, so this is a bug,
 /// never bad input (throws std::logic_error).
@@ -131,14 +136,14 @@ public:
     /// The triangles with a vertex at most one ring from `in_region`
     /// triangles' vertices (so those vertices' rings are whole).
     template <class Pred>
-    std::vector<bool> band(Pred in_region) const;
+    Flags band(Pred in_region) const;
     /// Keeps band(in_region), drops the rest.
     template <class Pred>
     void trim(Pred in_region) {
         trim_to(band(in_region));
     }
     /// A new patch holding only `src`'s triangles flagged in `keep`.
-    static Patch copy_of(const Patch& src, const std::vector<bool>& keep);
+    static Patch copy_of(const Patch& src, const Flags& keep);
     /// The same for the triangles listed in `kept` (ascending): its cost
     /// follows the copy's size, not `src`'s.
     static Patch copy_of(const Patch& src, const std::vector<std::uint32_t>& kept);
@@ -155,10 +160,10 @@ public:
     /// points are needed. Values whose stencil is incomplete are marked
     /// invalid. Call after finish().
     Patch next_positions(const BaseTopology& topo, SchemeKind scheme,
-                         const std::vector<bool>* needed = nullptr);
+                         const Flags* needed = nullptr);
     /// What next_positions() needs for the records of the triangles flagged
     /// in `region`: their vertices (moved by Loop) and every edge point at them.
-    std::vector<bool> points_around(const std::vector<bool>& region) const;
+    Flags points_around(const Flags& region) const;
 
     /// The per-vertex displacement of the next level, then the next level's
     /// patch (every triangle split 1-to-4), with only the points of its
@@ -167,10 +172,10 @@ public:
     /// done with the untrimmed indices. Call after finish().
     template <class Pred>
     Patch subdivide_band(const BaseTopology& topo, SchemeKind scheme, Pred in_region,
-                         std::vector<bool>& kept) {
+                         Flags& kept) {
         Patch next = subdivide_topology(topo);
         kept = next.band(in_region);
-        std::vector<bool> needed(next.verts.size(), false);
+        Flags needed(next.verts.size(), false);
         for (std::size_t t = 0; t < next.tris.size(); ++t)
             if (kept[t])
                 for (std::uint32_t v : next.tris[t].v) needed[v] = true;
@@ -178,7 +183,7 @@ public:
         return next;
     }
     /// Keeps the triangles flagged in `keep`, drops the rest.
-    void keep_only(const std::vector<bool>& keep) { trim_to(keep); }
+    void keep_only(const Flags& keep) { trim_to(keep); }
 
     void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
 
@@ -214,12 +219,12 @@ private:
     void compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
     Patch subdivide_topology(const BaseTopology& topo) const;
     void compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch& next,
-                           const std::vector<bool>* needed);
+                           const Flags* needed);
     void finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
     Vec3 edge_point(SchemeKind scheme, const PatchEdge& e) const;
     void fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,
                         Vec3& normal) const;
-    void trim_to(const std::vector<bool>& keep);
+    void trim_to(const Flags& keep);
 };
 
 /// The level-0 patch around the `count` base triangles at `region` (not
@@ -237,7 +242,7 @@ Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::siz
                  BasePatchScratch* scratch = nullptr);
 
 template <class Pred>
-std::vector<bool> Patch::band(Pred in_region) const {
+Flags Patch::band(Pred in_region) const {
     // Distance 0: vertices of region triangles; 1: their ring neighbours.
     std::vector<std::uint8_t> dist(verts.size(), 2);
     for (const PatchTriangle& t : tris)
@@ -247,7 +252,7 @@ std::vector<bool> Patch::band(Pred in_region) const {
         if (dist[t.v[0]] == 0 || dist[t.v[1]] == 0 || dist[t.v[2]] == 0)
             for (std::uint32_t v : t.v) dist[v] = std::min<std::uint8_t>(dist[v], 1);
     }
-    std::vector<bool> keep(tris.size());
+    Flags keep(tris.size());
     for (std::size_t t = 0; t < tris.size(); ++t) {
         const auto& v = tris[t].v;
         keep[t] = dist[v[0]] <= 1 || dist[v[1]] <= 1 || dist[v[2]] <= 1;

@@ -67,10 +67,10 @@ void RootRecords::build_chunk(const TileContext& ctx, std::size_t first, std::si
     p.finish(ctx.topo, ctx.scheme);
     // The next level's positions only: the shells read its edge points
     // (and Loop's moved corners), never its triangles.
-    std::vector<bool> in_chunk(p.tris.size());
+    Flags in_chunk(p.tris.size());
     for (std::size_t t = 0; t < p.tris.size(); ++t)
         in_chunk[t] = p.tris[t].id.face >= first && p.tris[t].id.face < last;
-    const std::vector<bool> needed = p.points_around(in_chunk);
+    const Flags needed = p.points_around(in_chunk);
     const Patch next = p.next_positions(ctx.topo, ctx.scheme, &needed);
     ShadingMemo memo(p);
     // The patch's triangles ascend by face, so its corners by slot.

@@ -54,13 +54,13 @@ std::size_t local_triangle_index(std::uint32_t n, std::uint32_t x, std::uint32_t
 /// around the triangles `in_region` accepts (into `next`); returns the flags.
 /// A group's first level and a tile's later levels start the same way.
 template <class InRegion>
-std::vector<bool> finish_for_records(const TileContext& ctx, Patch& q, InRegion in_region, Patch& next) {
+Flags finish_for_records(const TileContext& ctx, Patch& q, InRegion in_region, Patch& next) {
     q.finish(ctx.topo, ctx.scheme);
-    std::vector<bool> region(q.tris.size());
+    Flags region(q.tris.size());
     for (std::size_t t = 0; t < region.size(); ++t) region[t] = in_region(q.tris[t].id);
     // At max_level too: the corners' displacement tells a leaf there that
     // the rule would have refined it.
-    const std::vector<bool> needed = q.points_around(region);
+    const Flags needed = q.points_around(region);
     next = q.next_positions(ctx.topo, ctx.scheme, &needed);
     return region;
 }
@@ -99,7 +99,7 @@ TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::si
     Patch base = base_patch(ctx.topo, faces, count);
     base.finish(ctx.topo, ctx.scheme);
     if (ctx.roots) ctx.roots->lend_normals(base);
-    std::vector<bool> kept;
+    Flags kept;
     level_ = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
     level_.keep_only(kept);
     prepare(ctx, in_chunk);
@@ -200,7 +200,7 @@ Patch Tile::split_band(Patch& q) const {
     // Its positions are recomputed here from scratch, as only a tile that
     // goes deeper pays for that level's topology.
     q.finish(ctx_->topo, ctx_->scheme);
-    std::vector<bool> kept;
+    Flags kept;
     Patch next = q.subdivide_band(ctx_->topo, ctx_->scheme, [&](const NodeId& id) { return in_tile(id); }, kept);
     next.keep_only(kept);
     return next;
@@ -215,7 +215,7 @@ void Tile::build_level(int j) {
     frontier_ = split_band(frontier_);
     Patch& q = frontier_;
     Patch next;
-    const std::vector<bool> in_this_tile =
+    const Flags in_this_tile =
         finish_for_records(*ctx_, q, [&](const NodeId& id) { return in_tile(id); }, next);
     std::vector<std::uint32_t> tile_tris;
     tile_tris.reserve(std::size_t{1} << (2 * j));  // the tile's whole level
