@@ -267,7 +267,9 @@ void Patch::build_edges(const BaseTopology& topo) {
     // use and slot[0] its lowest-numbered triangle's slot.
     constexpr std::uint32_t k_unset = UINT32_MAX;
     edges.clear();
-    edges.reserve(3 * tris.size() / 2 + 8);
+    // A patch is cut out of its level: its border edges have one triangle,
+    // so it has up to 2 edges per triangle in a narrow band, not 3/2.
+    edges.reserve(2 * tris.size() + 16);
     tri_edges.assign(3 * tris.size(), k_unset);
     struct Entry {
         std::uint32_t lo, hi, face, id;  // id k_unset: empty

@@ -137,11 +137,22 @@ std::vector<std::uint32_t> TileGroup::triangles_of(const NodeId& root, InRoot in
 TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vector<NodeId> roots)
     : tiles_(roots.size()) {
     const BuildTimer timer(ctx.build_ns);
+    // The roots share their face and level: a triangle is in the group when
+    // its ancestor at that level is one of them, found by binary search over
+    // their grid keys (a linear search over up to 64 roots, per triangle of
+    // the patch it is cut from, was 2% of a close-up's instructions).
     const int level = roots.front().level;
+    const std::uint32_t face = roots.front().face;
+    const auto grid_key = [](const NodeId& id) {
+        return (std::uint64_t{id.i} << 33) | (std::uint64_t{id.j} << 1) | (id.down ? 1u : 0u);
+    };
+    std::vector<std::uint64_t> root_keys;
+    root_keys.reserve(roots.size());
+    for (const NodeId& r : roots) root_keys.push_back(grid_key(r));
+    std::sort(root_keys.begin(), root_keys.end());
     const auto in_group = [&](const NodeId& id) {
-        if (id.level <= level) return false;
-        const NodeId a = ancestor_at(id, level);
-        return std::find(roots.begin(), roots.end(), a) != roots.end();
+        if (id.level <= level || id.face != face) return false;
+        return std::binary_search(root_keys.begin(), root_keys.end(), grid_key(ancestor_at(id, level)));
     };
     // The roots' children and their border, cut from the level below the
     // parent (its siblings are cut from the same patch, whose incident lists
