@@ -27,7 +27,7 @@ bool same(float a, float b) {
 
 }  // namespace
 
-TEST_CASE("float steps equal nextafter at special values", "[shell][float]") {
+TEST_CASE("float steps equal nextafter at special values", "[shells][float]") {
     const float lowest = std::numeric_limits<float>::lowest(), highest = std::numeric_limits<float>::max();
     const float tiny = std::numeric_limits<float>::denorm_min(), normal = std::numeric_limits<float>::min();
     for (float f : {0.0f, -0.0f, tiny, -tiny, normal, -normal, 1.0f, -1.0f, highest, lowest, k_inf, -k_inf,
@@ -38,7 +38,7 @@ TEST_CASE("float steps equal nextafter at special values", "[shell][float]") {
     }
 }
 
-TEST_CASE("float steps equal nextafter on random bit patterns", "[shell][float]") {
+TEST_CASE("float steps equal nextafter on random bit patterns", "[shells][float]") {
     std::mt19937 rng(20261203);
     int mismatches = 0;
     for (int i = 0; i < 4000000; ++i) {
