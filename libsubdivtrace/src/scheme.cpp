@@ -260,6 +260,8 @@ void angle_weighted_fan(const Vec3& centre, const Vec3* from, const Vec3* to, st
             scale[k] = detail::corner_angle(len[k], dot[k]) / (usable ? len[k] : 1.0);
         }
         for (std::size_t k = 0; k < n; ++k) {
+            // Tested again rather than kept from the loop above: storing
+            // bools there stops that loop vectorising (GCC 12).
             const bool usable = (len[k] > 0.0) & (len[k] <= std::numeric_limits<double>::max());
             out[start + k] = usable ? cross[k] * scale[k] : Vec3(0.0);
         }
