@@ -328,10 +328,7 @@ std::vector<Vec3> weighted_corner_normals(const std::vector<Vec3>& positions,
                                           const std::vector<Triangle>& triangles,
                                           const std::vector<Vec3>& given) {
     std::vector<Vec3> out(3 * triangles.size());
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        const Triangle& tri = triangles[t];
-        angle_weighted_normals(positions[tri[0]], positions[tri[1]], positions[tri[2]], &out[3 * t]);
-    }
+    angle_weighted_corners(positions.data(), triangles.data(), triangles.size(), out.data());
     if (!given.empty())
         for (std::size_t slot = 0; slot < out.size(); ++slot)
             if (given[slot] != Vec3(0.0)) out[slot] = given[slot];
@@ -380,10 +377,14 @@ std::vector<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& positio
 std::vector<Vec3> smooth_vertex_normals(const std::vector<Vec3>& positions,
                                         const std::vector<Triangle>& triangles) {
     std::vector<Vec3> sums(positions.size(), Vec3(0.0));
-    Vec3 corner[3];
-    for (const Triangle& tri : triangles) {
-        angle_weighted_normals(positions[tri[0]], positions[tri[1]], positions[tri[2]], corner);
-        for (int c = 0; c < 3; ++c) sums[tri[c]] += corner[c];
+    // A block of triangles at a time, so the corners' angles vectorise.
+    constexpr std::size_t k_block = 256;
+    Vec3 corners[3 * k_block];
+    for (std::size_t start = 0; start < triangles.size(); start += k_block) {
+        const std::size_t n = std::min(k_block, triangles.size() - start);
+        angle_weighted_corners(positions.data(), triangles.data() + start, n, corners);
+        for (std::size_t k = 0; k < n; ++k)
+            for (int c = 0; c < 3; ++c) sums[triangles[start + k][c]] += corners[3 * k + c];
     }
     for (Vec3& sum : sums) sum = finish_normal(sum);
     return sums;

@@ -1,6 +1,7 @@
 // corner_angle (the angle-weighted normals' atan2) against libm's atan2, the
 // independent truth: random pairs over sixty binary orders of magnitude, the
 // branch points of its range reduction, and the degenerate ends.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
 
 #include "corner_angle.h"
 #include "subdivtrace/scheme.h"
@@ -88,4 +90,67 @@ TEST_CASE("angle_weighted_fan gives angle_weighted_normal's bits for every trian
     }
     CHECK(compared > 100000);
     CHECK(differing == 0);
+}
+
+TEST_CASE("angle_weighted_corners: each triangle's bits as alone, and libm's angles at each corner",
+          "[schemes][angle]") {
+    using subdivtrace::Triangle;
+    using subdivtrace::Vec3;
+    std::mt19937_64 rng(20261204);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), exponent(-20.0, 20.0);
+    const double inf = std::numeric_limits<double>::infinity();
+    const std::size_t count = 30011;  // not a multiple of the blocks
+    std::vector<Vec3> positions;
+    std::vector<Triangle> triangles;
+    for (std::size_t t = 0; t < count; ++t) {
+        const double scale = std::exp2(exponent(rng));
+        Vec3 p[3];
+        for (Vec3& q : p) q = Vec3(unit(rng), unit(rng), unit(rng)) * scale;
+        switch (t % 11) {  // the degenerate triangles
+            case 0: p[2] = p[1]; break;
+            case 1: p[2] = p[0] + (p[1] - p[0]) * 3.0; break;  // straight
+            case 2: p[1].z = inf; break;
+            case 3: p[0].x = std::numeric_limits<double>::quiet_NaN(); break;
+            default: break;
+        }
+        const auto first = static_cast<std::uint32_t>(positions.size());
+        positions.insert(positions.end(), p, p + 3);
+        triangles.push_back(Triangle{first, first + 1, first + 2});
+    }
+    std::vector<Vec3> out(3 * count, Vec3(-7.0));
+    // From an offset, as callers pass a block of a larger array.
+    subdivtrace::angle_weighted_corners(positions.data(), triangles.data() + 5, count - 5, out.data() + 15);
+
+    std::size_t differing = 0, angle_checked = 0, angle_off = 0;
+    for (std::size_t t = 5; t < count; ++t) {
+        const Triangle& tri = triangles[t];
+        const Vec3 &p0 = positions[tri[0]], &p1 = positions[tri[1]], &p2 = positions[tri[2]];
+        // Alone: one cross product, two angles, the third from pi.
+        const Vec3 n = glm::cross(p1 - p0, p2 - p0);
+        const double len = glm::length(n);
+        Vec3 expected[3] = {Vec3(0.0), Vec3(0.0), Vec3(0.0)};
+        if (len > 0.0 && len <= std::numeric_limits<double>::max()) {
+            const double a0 = corner_angle(len, glm::dot(p1 - p0, p2 - p0));
+            const double a1 = corner_angle(len, glm::dot(p2 - p1, p0 - p1));
+            const double a2 = std::max(0.0, 3.14159265358979323846 - a0 - a1);
+            expected[0] = n / len * a0;
+            expected[1] = n / len * a1;
+            expected[2] = n / len * a2;
+            // The independent truth: each corner's weight is libm's angle.
+            if (t % 11 > 3) {
+                const Vec3* p[3] = {&p0, &p1, &p2};
+                for (int c = 0; c < 3; ++c) {
+                    const Vec3 e1 = *p[(c + 1) % 3] - *p[c], e2 = *p[(c + 2) % 3] - *p[c];
+                    const double truth = std::atan2(glm::length(glm::cross(e1, e2)), glm::dot(e1, e2));
+                    ++angle_checked;
+                    if (std::abs(glm::length(out[3 * t + c]) - truth) > 1e-12 * (1.0 + truth)) ++angle_off;
+                }
+            }
+        }
+        if (std::memcmp(expected, &out[3 * t], sizeof expected) != 0) ++differing;
+    }
+    for (std::size_t slot = 0; slot < 15; ++slot) CHECK(out[slot] == Vec3(-7.0));  // untouched
+    CHECK(differing == 0);
+    CHECK(angle_checked > 50000);
+    CHECK(angle_off == 0);
 }

@@ -115,9 +115,12 @@ Vec3 angle_weighted_normal(const Vec3& p, const Vec3& q, const Vec3& r);
 /// so their square roots and divisions (most of a normal's cost) run
 /// vectorised.
 void angle_weighted_fan(const Vec3& centre, const Vec3* from, const Vec3* to, std::size_t count, Vec3* out);
-/// The same at all three corners of triangle (p0, p1, p2), into out[0..2]
-/// (one cross product for the three).
-void angle_weighted_normals(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec3* out);
+/// The angle-weighted normals at all three corners of each of `count`
+/// triangles (indices into `positions`), into out[3 t + c]: a triangle's
+/// three share one cross product and its third angle is pi minus the other
+/// two. Eight triangles at a time, so the angles run vectorised.
+void angle_weighted_corners(const Vec3* positions, const Triangle* triangles, std::size_t count,
+                            Vec3* out);
 
 /// Normalises a sum of angle-weighted normals; a zero sum gives (0, 0, 0).
 Vec3 finish_normal(const Vec3& sum);
