@@ -1,6 +1,7 @@
 #include "patch.h"
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
 
@@ -66,7 +67,7 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
             for (std::uint32_t w : t.v) dv.has_ring = dv.has_ring && verts[w].has_position;
         }
     }
-    build_edges(topo);
+    build_edges();
 
     ring_nbrs.clear();
     ring_curve.clear();
@@ -229,6 +230,7 @@ void Patch::drop_derived() {
     verts.shrink_to_fit();
     draw.shrink_to_fit();
     tris.shrink_to_fit();
+    edge_keys.shrink_to_fit();
 }
 
 std::size_t Patch::owned_bytes() const {
@@ -239,83 +241,52 @@ std::size_t Patch::owned_bytes() const {
            rings.capacity() * sizeof(Ring) + ring_nbrs.capacity() * sizeof(std::uint32_t) +
            ring_curve.capacity() +
            (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +
-           edges.capacity() * sizeof(PatchEdge) + tri_edges.capacity() * sizeof(std::uint32_t);
+           edges.capacity() * sizeof(PatchEdge) +
+           (tri_edges.capacity() + edge_keys.capacity()) * sizeof(std::uint32_t);
 }
 
-namespace {
-
-/// The edge of its base triangle (0: corners 0-1, 1: 1-2, 2: 2-0) that edge
-/// e of grid triangle `id` lies on, or -1 if it lies inside.
-int base_edge_under(const NodeId& id, int e) {
-    const auto g = node_corner_grid(id);
-    const auto& p = g[e];
-    const auto& q = g[(e + 1) % 3];
-    const std::uint32_t n = std::uint32_t{1} << id.level;
-    // Grid point (i, j) has weight n - i - j on corner 0, i on 1, j on 2.
-    if (p[1] == 0 && q[1] == 0) return 0;
-    if (p[0] + p[1] == n && q[0] + q[1] == n) return 1;
-    if (p[0] == 0 && q[0] == 0) return 2;
-    return -1;
-}
-
-}  // namespace
-
-void Patch::build_edges(const BaseTopology& topo) {
-    // Every edge once, by its endpoints in an open-addressing table (a scan
-    // of an endpoint's triangles per edge was 15% of a small object's
-    // render). Triangles are visited in order, so an edge's id is its first
-    // use and slot[0] its lowest-numbered triangle's slot.
+void Patch::build_edges() {
+    // Every edge once, by its name (edge_keys): triangles are visited in
+    // order, so an edge's id is its first use and slot[0] its
+    // lowest-numbered triangle's slot.
     constexpr std::uint32_t k_unset = UINT32_MAX;
     edges.clear();
     // A patch is cut out of its level: its border edges have one triangle,
     // so it has up to 2 edges per triangle in a narrow band, not 3/2.
     edges.reserve(2 * tris.size() + 16);
-    tri_edges.assign(3 * tris.size(), k_unset);
-    struct Entry {
-        std::uint32_t lo, hi, face, id;  // id k_unset: empty
-    };
-    thread_local std::vector<Entry> table;
-    std::size_t size = 16;
-    while (size < 4 * tris.size()) size *= 2;
-    table.assign(size, Entry{0, 0, 0, k_unset});
-    const std::size_t mask = size - 1;
-    const std::uint32_t triangle_count = static_cast<std::uint32_t>(tris.size());
-    for (std::uint32_t t = 0; t < triangle_count; ++t) {
-        // A copy: the stores below could alias tris[t] as far as the
-        // compiler knows, and would make it reload the triangle per edge.
-        const PatchTriangle tri = tris[t];
-        int base_edges[3];
-        for (int e = 0; e < 3; ++e) base_edges[e] = base_edge_under(tri.id, e);
-        for (std::uint32_t e = 0; e < 3; ++e) {
-            const std::uint32_t u = tri.v[e], w = tri.v[(e + 1) % 3];
-            const std::uint32_t lo = std::min(u, w), hi = std::max(u, w);
-            // An edge inside a base triangle belongs to that triangle alone
-            // (its point is a face point): a duplicate base triangle over the
-            // same vertices has its own. Edges on a base edge are shared.
-            const int base_edge = base_edges[e];
-            const std::uint32_t face = base_edge >= 0 ? k_unset : tri.id.face;
-            std::size_t h = (lo * 0x9E3779B1u ^ hi * 0x85EBCA77u ^ face * 0xC2B2AE3Du) & mask;
-            while (table[h].id != k_unset &&
-                   !(table[h].lo == lo && table[h].hi == hi && table[h].face == face))
-                h = (h + 1) & mask;
-            if (table[h].id == k_unset) {
-                table[h] = {lo, hi, face, static_cast<std::uint32_t>(edges.size())};
-                // Filled in place: a local PatchEdge copied in whole right
-                // after its bytes were written stalled on store forwarding.
-                PatchEdge& edge = edges.emplace_back();
-                const bool u_first = key_less(verts[u].key, verts[w].key);
-                edge.a = u_first ? u : w;
-                edge.b = u_first ? w : u;
-                edge.valid = derived[edge.a].has_ring && derived[edge.b].has_ring;
-                edge.curve = base_edge >= 0 && topo.is_crease(tri.id.face, base_edge);
-            }
-            PatchEdge& edge = edges[table[h].id];
-            tri_edges[3 * t + e] = table[h].id;
-            if (edge.slot_count < 2) edge.slot[edge.slot_count] = 3 * t + e;
-            ++edge.slot_count;
+    tri_edges.resize(3 * tris.size());
+    // Edge id by name; entries are reset after use, so a patch pays for its
+    // own size, not for the largest name seen.
+    thread_local std::vector<std::uint32_t> id_of_name;
+    const std::size_t slot_count = edge_keys.size();
+    for (std::size_t slot = 0; slot < slot_count; ++slot) {
+        const std::uint32_t key = edge_keys[slot];
+        const std::uint32_t name = key >> 1;
+        if (name >= id_of_name.size()) id_of_name.resize(std::max<std::size_t>(name + 1, 2 * id_of_name.size()), k_unset);
+        std::uint32_t id = id_of_name[name];
+        if (id == k_unset) {
+            id = static_cast<std::uint32_t>(edges.size());
+            id_of_name[name] = id;
+            const std::uint32_t t = static_cast<std::uint32_t>(slot / 3), e = static_cast<std::uint32_t>(slot % 3);
+            const std::uint32_t u = tris[t].v[e], w = tris[t].v[(e + 1) % 3];
+            // Filled in place: a local PatchEdge copied in whole right
+            // after its bytes were written stalled on store forwarding.
+            PatchEdge& edge = edges.emplace_back();
+            const bool u_first = key_less(verts[u].key, verts[w].key);
+            edge.a = u_first ? u : w;
+            edge.b = u_first ? w : u;
+            edge.valid = derived[edge.a].has_ring && derived[edge.b].has_ring;
+            edge.crease = (key & 1u) != 0;
         }
+        PatchEdge& edge = edges[id];
+        tri_edges[slot] = id;
+        if (edge.slot_count < 2) edge.slot[edge.slot_count] = static_cast<std::uint32_t>(slot);
+        ++edge.slot_count;
     }
-    for (PatchEdge& edge : edges) edge.curve = edge.curve || edge.slot_count == 1;  // a boundary
+    for (PatchEdge& edge : edges) {
+        id_of_name[edge_keys[edge.slot[0]] >> 1] = k_unset;
+        edge.curve = edge.crease || edge.slot_count == 1;  // or a boundary
+    }
 }
 
 Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
@@ -463,6 +434,43 @@ Flags Patch::points_around(const Flags& region) const {
     return needed;
 }
 
+namespace {
+
+/// child_corners as indices into a parent triangle's six points (corners,
+/// then edge points) and nine edge names (Patch::subdivide_topology).
+struct ChildTables {
+    std::uint8_t point[4][3];
+    std::uint8_t key[4][3];
+};
+
+const ChildTables& child_tables(bool parent_down) {
+    static const std::array<ChildTables, 2> tables = [] {
+        std::array<ChildTables, 2> out{};
+        for (int down = 0; down < 2; ++down)
+            for (int c = 0; c < 4; ++c) {
+                const auto& map = child_corners(down != 0, c);
+                for (int k = 0; k < 3; ++k) {
+                    const ChildCorner& p = map[k];
+                    const ChildCorner& q = map[(k + 1) % 3];
+                    out[down].point[c][k] = static_cast<std::uint8_t>(p.is_edge ? 3 + p.index : p.index);
+                    if (p.is_edge && q.is_edge) {
+                        // The inner edge between two edge points lies opposite the third.
+                        out[down].key[c][k] = static_cast<std::uint8_t>(6 + (3 - p.index - q.index));
+                    } else {
+                        const ChildCorner& corner = p.is_edge ? q : p;
+                        const ChildCorner& mid = p.is_edge ? p : q;
+                        out[down].key[c][k] =
+                            static_cast<std::uint8_t>(2 * mid.index + (corner.index == mid.index ? 0 : 1));
+                    }
+                }
+            }
+        return out;
+    }();
+    return tables[parent_down ? 1 : 0];
+}
+
+}  // namespace
+
 Patch Patch::subdivide_topology(const BaseTopology& topo) const {
     Patch next;
     next.level = level + 1;
@@ -474,10 +482,12 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
     }
     // Each triangle becomes four, in the hierarchy's child order.
     next.tris.resize(4 * tris.size());
+    next.edge_keys.resize(3 * next.tris.size());
+    const std::uint32_t inner_names = 2 * static_cast<std::uint32_t>(edges.size());
     Flags keyed(edges.size(), false);
     const std::uint32_t triangle_count = static_cast<std::uint32_t>(tris.size());
     for (std::uint32_t t = 0; t < triangle_count; ++t) {
-        const PatchTriangle pt = tris[t];  // a copy, as in build_edges
+        const PatchTriangle pt = tris[t];  // a copy: the stores below might alias it
         const auto grid = node_corner_grid(pt.id);
         for (int e = 0; e < 3; ++e) {
             const std::uint32_t edge = tri_edges[3 * t + e];
@@ -488,13 +498,30 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
                                     grid[e][1] + grid[(e + 1) % 3][1]);
             nv.true_ring = true_incident_count(topo, nv.key);
         }
+        // The children's corners (the parent's, then its edge points) and
+        // edge names (edge_keys): the half of parent edge e at its corner e,
+        // the half at corner e + 1, then the inner edge opposite edge point k.
+        std::uint32_t point[6];
+        std::uint32_t key[9];
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t id = tri_edges[3 * t + e];
+            const PatchEdge& parent = edges[id];
+            const std::uint32_t first_half = pt.v[e] == parent.a ? 0u : 1u;
+            const std::uint32_t crease = parent.crease ? 1u : 0u;
+            point[e] = pt.v[e];
+            point[3 + e] = old_count + id;
+            key[2 * e] = ((2 * id + first_half) << 1) | crease;
+            key[2 * e + 1] = ((2 * id + (1u - first_half)) << 1) | crease;
+            key[6 + e] = (inner_names + 3 * t + static_cast<std::uint32_t>(e)) << 1;
+        }
+        const ChildTables& table = child_tables(pt.id.down);
         for (int c = 0; c < 4; ++c) {
             PatchTriangle& child = next.tris[4 * t + c];
             child.id = child_of(pt.id, c);
-            const auto& map = child_corners(pt.id.down, c);
+            std::uint32_t* child_keys = &next.edge_keys[3 * (4 * t + c)];
             for (int k = 0; k < 3; ++k) {
-                child.v[k] = map[k].is_edge ? old_count + tri_edges[3 * t + map[k].index]
-                                            : pt.v[map[k].index];
+                child.v[k] = point[table.point[c][k]];
+                child_keys[k] = key[table.key[c][k]];
             }
         }
     }
@@ -575,7 +602,9 @@ Patch Patch::copy_of(const Patch& src, const std::vector<std::uint32_t>& kept) {
     if (!src.draw.empty()) out.draw.reserve(out.verts.capacity());
     thread_local std::vector<std::uint32_t> sources;
     sources.clear();
+    out.edge_keys.reserve(3 * kept.size());
     for (std::uint32_t t : kept) {
+        out.edge_keys.insert(out.edge_keys.end(), src.edge_keys.begin() + 3 * t, src.edge_keys.begin() + 3 * t + 3);
         PatchTriangle tri = src.tris[t];
         for (std::uint32_t& v : tri.v) {
             if (remap[v] == UINT32_MAX) {
@@ -635,6 +664,39 @@ void Patch::trim_to(const Flags& keep) {
     // Derived data (rings, edges) refers to the old indices: rebuilt later.
     *this = copy_of(*this, keep);
 }
+
+namespace {
+
+/// Names the edges of a base patch (Patch::edge_keys) by their vertex pairs,
+/// in an open-addressing table: number k for the k-th distinct pair met,
+/// with the crease bit of the base edge.
+void name_base_edges(const BaseTopology& topo, Patch& p) {
+    constexpr std::uint32_t k_unset = UINT32_MAX;
+    struct Entry {
+        std::uint32_t lo, hi, name;  // name k_unset: empty
+    };
+    thread_local std::vector<Entry> table;
+    std::size_t size = 16;
+    while (size < 4 * p.tris.size()) size *= 2;
+    table.assign(size, Entry{0, 0, k_unset});
+    const std::size_t mask = size - 1;
+    std::uint32_t names = 0;
+    p.edge_keys.resize(3 * p.tris.size());
+    for (std::size_t t = 0; t < p.tris.size(); ++t) {
+        const PatchTriangle& tri = p.tris[t];
+        for (std::uint32_t e = 0; e < 3; ++e) {
+            const std::uint32_t u = tri.v[e], w = tri.v[(e + 1) % 3];
+            const std::uint32_t lo = std::min(u, w), hi = std::max(u, w);
+            std::size_t h = (lo * 0x9E3779B1u ^ hi * 0x85EBCA77u) & mask;
+            while (table[h].name != k_unset && !(table[h].lo == lo && table[h].hi == hi)) h = (h + 1) & mask;
+            if (table[h].name == k_unset) table[h] = {lo, hi, names++};
+            const bool crease = topo.is_crease(tri.id.face, static_cast<int>(e));
+            p.edge_keys[3 * t + e] = (table[h].name << 1) | (crease ? 1u : 0u);
+        }
+    }
+}
+
+}  // namespace
 
 Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::size_t count,
                  BasePatchScratch* scratch) {
@@ -720,6 +782,7 @@ Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::siz
         }
         p.tris.push_back(t);
     }
+    name_base_edges(topo, p);
     return p;
 }
 

@@ -78,6 +78,7 @@ struct PatchEdge {
     std::uint32_t point = 0;  ///< index of its edge point in the next level's patch
     bool valid = false;       ///< both endpoints have complete rings
     bool curve = false;       ///< a boundary (one triangle) or a crease
+    bool crease = false;      ///< on a base edge that is a crease (creases.h)
     std::uint32_t slot_count = 0;  ///< triangles on the edge
     std::uint32_t slot[2] = {0, 0};  ///< the first two, as corner slots 3t + e
 };
@@ -124,6 +125,13 @@ public:
     /// Edges and, per triangle corner slot 3t+e, the edge from corner e to e+1.
     std::vector<PatchEdge> edges;
     std::vector<std::uint32_t> tri_edges;
+    /// Per corner slot 3t+e, a name of the edge from corner e to e+1 that
+    /// every triangle on it shares: (number << 1) | crease bit. Numbered by
+    /// base_patch, then derived from the parent's edges by each subdivision
+    /// (a half of parent edge p is 2p or 2p + 1, an inner edge of parent
+    /// triangle t is 2E + 3t + k) and carried by copies, so finish() finds
+    /// the edges by direct indexing, without hashing vertex pairs.
+    std::vector<std::uint32_t> edge_keys;
 
     /// Rings, completeness, edges, curves, normals and (Loop) draw positions
     /// of vertices born at this level.
@@ -215,7 +223,7 @@ public:
     std::size_t owned_bytes() const;
 
 private:
-    void build_edges(const BaseTopology& topo);
+    void build_edges();
     void compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
     Patch subdivide_topology(const BaseTopology& topo) const;
     void compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch& next,
