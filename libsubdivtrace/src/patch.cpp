@@ -52,6 +52,7 @@ void Patch::build_incidence() {
 void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     const std::size_t n = verts.size();
     build_incidence();
+    if (edge_keys.size() != 3 * tris.size()) name_edges(topo);
     const std::vector<std::uint32_t>& offsets = incident_offsets;
     const std::vector<std::uint32_t>& slots = incident_slots;
 
@@ -230,7 +231,7 @@ void Patch::drop_derived() {
     verts.shrink_to_fit();
     draw.shrink_to_fit();
     tris.shrink_to_fit();
-    edge_keys.shrink_to_fit();
+    release(edge_keys);  // named again when it is split (name_edges)
 }
 
 std::size_t Patch::owned_bytes() const {
@@ -243,6 +244,59 @@ std::size_t Patch::owned_bytes() const {
            (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +
            edges.capacity() * sizeof(PatchEdge) +
            (tri_edges.capacity() + edge_keys.capacity()) * sizeof(std::uint32_t);
+}
+
+namespace {
+
+/// The edge of its base triangle (0: corners 0-1, 1: 1-2, 2: 2-0) that edge
+/// e of grid triangle `id` lies on, or -1 if it lies inside.
+int base_edge_under(const NodeId& id, int e) {
+    const auto g = node_corner_grid(id);
+    const auto& p = g[e];
+    const auto& q = g[(e + 1) % 3];
+    const std::uint32_t n = std::uint32_t{1} << id.level;
+    // Grid point (i, j) has weight n - i - j on corner 0, i on 1, j on 2.
+    if (p[1] == 0 && q[1] == 0) return 0;
+    if (p[0] + p[1] == n && q[0] + q[1] == n) return 1;
+    if (p[0] == 0 && q[0] == 0) return 2;
+    return -1;
+}
+
+}  // namespace
+
+void Patch::name_edges(const BaseTopology& topo) {
+    // By vertex pairs, in an open-addressing table: name k for the k-th
+    // distinct edge met, with the crease bit of the base edge under it.
+    constexpr std::uint32_t k_unset = UINT32_MAX;
+    struct Entry {
+        std::uint32_t lo, hi, face, name;  // name k_unset: empty
+    };
+    thread_local std::vector<Entry> table;
+    std::size_t size = 16;
+    while (size < 4 * tris.size()) size *= 2;
+    table.assign(size, Entry{0, 0, 0, k_unset});
+    const std::size_t mask = size - 1;
+    std::uint32_t names = 0;
+    edge_keys.resize(3 * tris.size());
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+        const PatchTriangle tri = tris[t];  // a copy: the stores below might alias it
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t u = tri.v[e], w = tri.v[(e + 1) % 3];
+            const std::uint32_t lo = std::min(u, w), hi = std::max(u, w);
+            // An edge inside a base triangle belongs to that triangle alone
+            // (its point is a face point): a duplicate base triangle over the
+            // same vertices has its own. Edges on a base edge are shared.
+            const int base_edge = base_edge_under(tri.id, e);
+            const std::uint32_t face = base_edge >= 0 ? k_unset : tri.id.face;
+            std::size_t h = (lo * 0x9E3779B1u ^ hi * 0x85EBCA77u ^ face * 0xC2B2AE3Du) & mask;
+            while (table[h].name != k_unset &&
+                   !(table[h].lo == lo && table[h].hi == hi && table[h].face == face))
+                h = (h + 1) & mask;
+            if (table[h].name == k_unset) table[h] = {lo, hi, face, names++};
+            const bool crease = base_edge >= 0 && topo.is_crease(tri.id.face, base_edge);
+            edge_keys[3 * t + e] = (table[h].name << 1) | (crease ? 1u : 0u);
+        }
+    }
 }
 
 void Patch::build_edges() {
@@ -665,39 +719,6 @@ void Patch::trim_to(const Flags& keep) {
     *this = copy_of(*this, keep);
 }
 
-namespace {
-
-/// Names the edges of a base patch (Patch::edge_keys) by their vertex pairs,
-/// in an open-addressing table: number k for the k-th distinct pair met,
-/// with the crease bit of the base edge.
-void name_base_edges(const BaseTopology& topo, Patch& p) {
-    constexpr std::uint32_t k_unset = UINT32_MAX;
-    struct Entry {
-        std::uint32_t lo, hi, name;  // name k_unset: empty
-    };
-    thread_local std::vector<Entry> table;
-    std::size_t size = 16;
-    while (size < 4 * p.tris.size()) size *= 2;
-    table.assign(size, Entry{0, 0, k_unset});
-    const std::size_t mask = size - 1;
-    std::uint32_t names = 0;
-    p.edge_keys.resize(3 * p.tris.size());
-    for (std::size_t t = 0; t < p.tris.size(); ++t) {
-        const PatchTriangle& tri = p.tris[t];
-        for (std::uint32_t e = 0; e < 3; ++e) {
-            const std::uint32_t u = tri.v[e], w = tri.v[(e + 1) % 3];
-            const std::uint32_t lo = std::min(u, w), hi = std::max(u, w);
-            std::size_t h = (lo * 0x9E3779B1u ^ hi * 0x85EBCA77u) & mask;
-            while (table[h].name != k_unset && !(table[h].lo == lo && table[h].hi == hi)) h = (h + 1) & mask;
-            if (table[h].name == k_unset) table[h] = {lo, hi, names++};
-            const bool crease = topo.is_crease(tri.id.face, static_cast<int>(e));
-            p.edge_keys[3 * t + e] = (table[h].name << 1) | (crease ? 1u : 0u);
-        }
-    }
-}
-
-}  // namespace
-
 Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::size_t count,
                  BasePatchScratch* scratch) {
     // Faces touching the region's corners or their neighbours (the trim
@@ -782,7 +803,6 @@ Patch base_patch(const BaseTopology& topo, const std::uint32_t* region, std::siz
         }
         p.tris.push_back(t);
     }
-    name_base_edges(topo, p);
     return p;
 }
 

@@ -218,11 +218,14 @@ public:
         dv.has_normal = true;
     }
 
-    /// Frees rings and edges (finish() rebuilds them).
+    /// Frees rings, edges and edge names (finish() rebuilds them).
     void drop_derived();
     std::size_t owned_bytes() const;
 
 private:
+    /// Names the edges (edge_keys) by their vertex pairs: for base patches,
+    /// and patches that dropped their names (drop_derived).
+    void name_edges(const BaseTopology& topo);
     void build_edges();
     void compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
     Patch subdivide_topology(const BaseTopology& topo) const;
