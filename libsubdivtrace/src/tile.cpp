@@ -244,12 +244,8 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
                       const std::vector<std::uint32_t>& tile_tris) {
     TileLevel& out = levels_[j - 1];
     const std::size_t n = std::size_t{1} << j;
-    out.position.resize((n + 1) * (n + 2) / 2);
-    out.normal.resize(out.position.size());
-    out.shading.resize(out.position.size());
-    out.displacement.resize(out.position.size());
-    for (auto& edges : out.edge_normal) edges.resize(out.position.size());
-    if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.position.size());
+    out.points.resize((n + 1) * (n + 2) / 2);
+    if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.points.size());
     out.shells.resize(n * n);
     std::vector<Shell> shells(n * n);
     for (std::uint32_t t : tile_tris) {
@@ -260,17 +256,18 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
         const auto grid = node_corner_grid(tri.id);
         for (int c = 0; c < 3; ++c) {
             const std::size_t v = vertex_index(tri.id, grid[c][0], grid[c][1]);
-            out.position[v] = rec.position[c];
-            out.normal[v] = rec.normal[c];
-            out.shading[v] = glm::vec3(rec.shading_normal[c]);
-            out.displacement[v] = rec.displacement[c];
+            TilePoint& point = out.points[v];
+            point.position = rec.position[c];
+            point.normal = rec.normal[c];
+            point.shading = glm::vec3(rec.shading_normal[c]);
+            point.displacement = rec.displacement[c];
             if (!out.draw.empty()) out.draw[v] = rec.draw_position[c];
             const auto [direction, at] = edge_slot(tri.id, c);
-            out.edge_normal[direction][at] = rec.edge_normal[c];
+            out.points[at].edge_normal[direction] = rec.edge_normal[c];
         }
     }
     // Shells relative to a point of the tile: its first grid point at level 1.
-    if (j == 1) origin_ = out.position[0];
+    if (j == 1) origin_ = out.points[0].position;
     for (std::size_t k = 0; k < shells.size(); ++k) out.shells[k] = CompactShell::from(shells[k], origin_);
     ctx_->records_built->fetch_add(out.shells.size(), std::memory_order_relaxed);
 }
@@ -322,17 +319,18 @@ void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const 
             const std::size_t v = map[k].is_edge ? mid[map[k].index] : corner[map[k].index];
             index[k] = v;
             at[k] = map[k].is_edge ? &mid_grid[map[k].index] : &corner_grid[map[k].index];
-            rec.position[k] = level.position[v];
-            rec.normal[k] = level.normal[v];
-            rec.shading_normal[k] = Vec3(level.shading[v]);
-            rec.displacement[k] = level.displacement[v];
-            rec.draw_position[k] = level.draw.empty() ? level.position[v] : level.draw[v];
+            const TilePoint& point = level.points[v];
+            rec.position[k] = point.position;
+            rec.normal[k] = point.normal;
+            rec.shading_normal[k] = Vec3(point.shading);
+            rec.displacement[k] = point.displacement;
+            rec.draw_position[k] = level.draw.empty() ? point.position : level.draw[v];
         }
         for (int k = 0; k < 3; ++k) {
             // As edge_slot(), with both ends' indices already known.
             const int l = (k + 1) % 3;
             const GridEdge e = grid_edge(*at[k], *at[l]);
-            rec.edge_normal[k] = level.edge_normal[e.direction][e.p_first ? index[k] : index[l]];
+            rec.edge_normal[k] = level.points[e.p_first ? index[k] : index[l]].edge_normal[e.direction];
         }
         rec.shell = level.shells[index_in_level(child)].expand(origin_);
     }
@@ -343,13 +341,14 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
     const auto grid = node_corner_grid(id);
     for (int c = 0; c < 3; ++c) {
         const std::size_t v = vertex_index(id, grid[c][0], grid[c][1]);
-        rec.position[c] = level.position[v];
-        rec.normal[c] = level.normal[v];
-        rec.shading_normal[c] = Vec3(level.shading[v]);
-        rec.displacement[c] = level.displacement[v];
-        rec.draw_position[c] = level.draw.empty() ? level.position[v] : level.draw[v];
+        const TilePoint& point = level.points[v];
+        rec.position[c] = point.position;
+        rec.normal[c] = point.normal;
+        rec.shading_normal[c] = Vec3(point.shading);
+        rec.displacement[c] = point.displacement;
+        rec.draw_position[c] = level.draw.empty() ? point.position : level.draw[v];
         const auto [direction, slot] = edge_slot(id, grid[c], grid[(c + 1) % 3]);
-        rec.edge_normal[c] = level.edge_normal[direction][slot];
+        rec.edge_normal[c] = level.points[slot].edge_normal[direction];
     }
     rec.shell = level.shells[index_in_level(id)].expand(origin_);
     return rec;
@@ -393,9 +392,7 @@ std::size_t held(const std::vector<T>& v) {
 std::size_t Tile::bytes_held() const {
     std::size_t bytes = sizeof(Tile) + held(levels_) + frontier_.owned_bytes();
     for (const TileLevel& l : levels_) {
-        bytes += held(l.position) + held(l.normal) + held(l.draw) + held(l.shading) + held(l.displacement) +
-                 held(l.shells);
-        for (const auto& e : l.edge_normal) bytes += held(e);
+        bytes += held(l.points) + held(l.draw) + held(l.shells);
     }
     return bytes;
 }

@@ -101,17 +101,25 @@ constexpr int k_group_levels = 0;
 /// The roots of the group holding tile root `root` (level >= k_tile_depth), `root` among them.
 std::vector<NodeId> tile_group_of(const NodeId& root);
 
-/// One level of a tile: vertex values on the root's sub-grid of resolution
-/// n = 2^j ((n+1)(n+2)/2 points) and a shell per triangle (n^2).
-struct TileLevel {
-    std::vector<Vec3> position;
-    std::vector<Vec3> normal;
-    std::vector<Vec3> draw;  ///< Loop only (interpolating schemes draw at position)
-    std::vector<glm::vec3> shading;     ///< NodeRecord::shading_normal (a ray only reads it)
-    std::vector<float> displacement;    ///< NodeRecord::displacement, rounded up
+/// What a tile keeps of one grid point of a level: a node record's corner
+/// values (NodeRecord), together, as a ray reads them together.
+struct TilePoint {
+    Vec3 position{0.0};
+    Vec3 normal{0.0};
+    glm::vec3 shading{0.0f};    ///< NodeRecord::shading_normal (a ray only reads it)
+    float displacement = 0.0f;  ///< NodeRecord::displacement, rounded up
     /// NodeRecord::edge_normal once per grid edge: by the edge's direction
     /// (along x, along y, the diagonal), at its first grid point.
-    std::array<std::vector<glm::vec3>, 3> edge_normal;
+    glm::vec3 edge_normal[3] = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
+};
+
+/// One level of a tile: values on the root's sub-grid of resolution n = 2^j
+/// ((n+1)(n+2)/2 points) and a shell per triangle (n^2). Points in one
+/// array, not an array per value: a tile's levels are small, and nine
+/// blocks per level were a quarter of a render's allocations.
+struct TileLevel {
+    std::vector<TilePoint> points;
+    std::vector<Vec3> draw;  ///< Loop only (interpolating schemes draw at position)
     std::vector<CompactShell> shells;
 };
 
