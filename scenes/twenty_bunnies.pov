@@ -4,6 +4,7 @@
 // Render from the project root:
 //   povray +Iscenes/twenty_bunnies.pov +W640 +H480 -D +WT2 +L<pov include dir>
 // Declare Budget=M on the command line to set subdivision_cache_mb, and
+// Tolerance=T to set the objects' tolerance (1 by default), and
 // Mesh2=1 to draw the uniform level-3 mesh2 from bunny_l3.inc instead
 // (`subdivtrace export-mesh2 data/bunny_lowpoly.obj -o bunny_l3.inc --levels 3 --name Bunny_L3`).
 #version 3.7;
@@ -17,6 +18,7 @@ light_source { <-12, 8, -6> rgb 0.35 shadowless }
 background { rgb <0.15, 0.18, 0.25> }
 plane { y, -1.2 pigment { checker rgb 0.8 rgb 0.5 scale 2 } }
 #ifdef (Mesh2) #include "bunny_l3.inc" #end
+#ifndef (Tolerance) #declare Tolerance = 1; #end
 
 #declare K = 0;
 #while (K < 20)
@@ -28,7 +30,7 @@ plane { y, -1.2 pigment { checker rgb 0.8 rgb 0.5 scale 2 } }
   #ifdef (Mesh2)
     object { Bunny_L3 texture { Look } rotate y * (25 * K) translate Place }
   #else
-    subdivision_mesh { file "data/bunny_lowpoly.obj" max_level 8 tolerance 1
+    subdivision_mesh { file "data/bunny_lowpoly.obj" max_level 8 tolerance Tolerance
                        texture { Look } rotate y * (25 * K) translate Place }
   #end
   #declare K = K + 1;

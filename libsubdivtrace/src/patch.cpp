@@ -44,7 +44,8 @@ void Patch::build_incidence() {
         for (std::uint32_t v : t.v) ++offsets[v + 1];
     for (std::size_t v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
     slots.resize(offsets.back());
-    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+    thread_local std::vector<std::uint32_t> fill;
+    fill.assign(offsets.begin(), offsets.end() - 1);
     for (std::uint32_t t = 0; t < tris.size(); ++t)
         for (std::uint32_t c = 0; c < 3; ++c) slots[fill[tris[t].v[c]]++] = 3 * t + c;
 }
@@ -461,13 +462,12 @@ void Patch::compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uin
     dv.has_normal = true;
 }
 
-Patch Patch::next_positions(const BaseTopology& topo, SchemeKind scheme,
-                            const Flags* needed) {
-    Patch next;
+void Patch::next_positions(const BaseTopology& topo, SchemeKind scheme, const Flags* needed,
+                           Patch& next) {
     next.level = level + 1;
-    next.verts.resize(verts.size() + edges.size());
+    next.verts.assign(verts.size() + edges.size(), PatchVertex{});
+    next.draw.clear();
     compute_positions(topo, scheme, next, needed);
-    return next;
 }
 
 Flags Patch::points_around(const Flags& region) const {

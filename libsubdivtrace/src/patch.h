@@ -167,8 +167,10 @@ public:
     /// and a vertex's displacement is then whole only where all its edges'
     /// points are needed. Values whose stencil is incomplete are marked
     /// invalid. Call after finish().
-    Patch next_positions(const BaseTopology& topo, SchemeKind scheme,
-                         const Flags* needed = nullptr);
+    /// Writes them into `next` (only its vertices and draw positions; it
+    /// may be a reused scratch patch).
+    void next_positions(const BaseTopology& topo, SchemeKind scheme, const Flags* needed,
+                        Patch& next);
     /// What next_positions() needs for the records of the triangles flagged
     /// in `region`: their vertices (moved by Loop) and every edge point at them.
     Flags points_around(const Flags& region) const;

@@ -23,9 +23,15 @@ struct ShadingMemo {
     std::vector<Vec3> edge;
     std::vector<std::uint8_t> edge_done;
 
-    explicit ShadingMemo(const Patch& p)
-        : corner(p.verts.size()), corner_done(p.verts.size(), 0), edge(p.edges.size()),
-          edge_done(p.edges.size(), 0) {}
+    ShadingMemo() = default;
+    explicit ShadingMemo(const Patch& p) { reset(p); }
+    /// Empty for patch p (keeps its blocks for reuse).
+    void reset(const Patch& p) {
+        corner.assign(p.verts.size(), Vec3(0.0));
+        corner_done.assign(p.verts.size(), 0);
+        edge.assign(p.edges.size(), Vec3(0.0));
+        edge_done.assign(p.edges.size(), 0);
+    }
 };
 
 /// Record of triangle t of patch p (level L), with `next` the patch p

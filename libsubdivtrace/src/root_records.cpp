@@ -71,7 +71,8 @@ void RootRecords::build_chunk(const TileContext& ctx, std::size_t first, std::si
     for (std::size_t t = 0; t < p.tris.size(); ++t)
         in_chunk[t] = p.tris[t].id.face >= first && p.tris[t].id.face < last;
     const Flags needed = p.points_around(in_chunk);
-    const Patch next = p.next_positions(ctx.topo, ctx.scheme, &needed);
+    Patch next;
+    p.next_positions(ctx.topo, ctx.scheme, &needed, next);
     ShadingMemo memo(p);
     // The patch's triangles ascend by face, so its corners by slot.
     for (std::uint32_t t = 0; t < p.tris.size(); ++t) {

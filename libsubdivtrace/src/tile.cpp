@@ -61,7 +61,7 @@ Flags finish_for_records(const TileContext& ctx, Patch& q, InRegion in_region, P
     // At max_level too: the corners' displacement tells a leaf there that
     // the rule would have refined it.
     const Flags needed = q.points_around(region);
-    next = q.next_positions(ctx.topo, ctx.scheme, &needed);
+    q.next_positions(ctx.topo, ctx.scheme, &needed, next);
     return region;
 }
 
@@ -225,14 +225,17 @@ void Tile::build_level(int j) {
     // computed here and dropped after.
     frontier_ = split_band(frontier_);
     Patch& q = frontier_;
-    Patch next;
+    // The next level's points and the shading memo live until the level is
+    // filled: this thread's scratch, so their blocks are reused.
+    thread_local Patch next;
     const Flags in_this_tile =
         finish_for_records(*ctx_, q, [&](const NodeId& id) { return in_tile(id); }, next);
     std::vector<std::uint32_t> tile_tris;
     tile_tris.reserve(std::size_t{1} << (2 * j));  // the tile's whole level
     for (std::uint32_t t = 0; t < in_this_tile.size(); ++t)
         if (in_this_tile[t]) tile_tris.push_back(t);
-    ShadingMemo memo(q);
+    thread_local ShadingMemo memo;
+    memo.reset(q);
     fill_level(j, q, next, memo, tile_tris);
     // Waits, without rings and edges, for the next level or child tiles.
     if (needs_frontier(j)) q.drop_derived();
