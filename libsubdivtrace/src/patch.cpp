@@ -53,7 +53,7 @@ void Patch::build_incidence() {
 void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     const std::size_t n = verts.size();
     build_incidence();
-    if (edge_keys.size() != 3 * tris.size()) name_edges(topo);
+    if (edge_names.size() != 3 * tris.size()) name_edges(topo);
     const std::vector<std::uint32_t>& offsets = incident_offsets;
     const std::vector<std::uint32_t>& slots = incident_slots;
 
@@ -232,7 +232,7 @@ void Patch::drop_derived() {
     verts.shrink_to_fit();
     draw.shrink_to_fit();
     tris.shrink_to_fit();
-    release(edge_keys);  // named again when it is split (name_edges)
+    release(edge_names);  // named again when it is split (name_edges)
 }
 
 std::size_t Patch::owned_bytes() const {
@@ -244,7 +244,7 @@ std::size_t Patch::owned_bytes() const {
            ring_curve.capacity() +
            (incident_offsets.capacity() + incident_slots.capacity()) * sizeof(std::uint32_t) +
            edges.capacity() * sizeof(PatchEdge) +
-           (tri_edges.capacity() + edge_keys.capacity()) * sizeof(std::uint32_t);
+           (tri_edges.capacity() + edge_names.capacity()) * sizeof(std::uint32_t);
 }
 
 namespace {
@@ -278,7 +278,7 @@ void Patch::name_edges(const BaseTopology& topo) {
     table.assign(size, Entry{0, 0, 0, k_unset});
     const std::size_t mask = size - 1;
     std::uint32_t names = 0;
-    edge_keys.resize(3 * tris.size());
+    edge_names.resize(3 * tris.size());
     for (std::size_t t = 0; t < tris.size(); ++t) {
         const PatchTriangle tri = tris[t];  // a copy: the stores below might alias it
         for (int e = 0; e < 3; ++e) {
@@ -295,13 +295,13 @@ void Patch::name_edges(const BaseTopology& topo) {
                 h = (h + 1) & mask;
             if (table[h].name == k_unset) table[h] = {lo, hi, face, names++};
             const bool crease = base_edge >= 0 && topo.is_crease(tri.id.face, base_edge);
-            edge_keys[3 * t + e] = (table[h].name << 1) | (crease ? 1u : 0u);
+            edge_names[3 * t + e] = (table[h].name << 1) | (crease ? 1u : 0u);
         }
     }
 }
 
 void Patch::build_edges() {
-    // Every edge once, by its name (edge_keys): triangles are visited in
+    // Every edge once, by its name (edge_names): triangles are visited in
     // order, so an edge's id is its first use and slot[0] its
     // lowest-numbered triangle's slot.
     constexpr std::uint32_t k_unset = UINT32_MAX;
@@ -310,18 +310,19 @@ void Patch::build_edges() {
     // so it has up to 2 edges per triangle in a narrow band, not 3/2.
     edges.reserve(2 * tris.size() + 16);
     tri_edges.resize(3 * tris.size());
-    // Edge id by name; entries are reset after use, so a patch pays for its
+    // Edge id by name number; entries are reset after use, so a patch pays for its
     // own size, not for the largest name seen.
     thread_local std::vector<std::uint32_t> id_of_name;
-    const std::size_t slot_count = edge_keys.size();
+    const std::size_t slot_count = edge_names.size();
     for (std::size_t slot = 0; slot < slot_count; ++slot) {
-        const std::uint32_t key = edge_keys[slot];
-        const std::uint32_t name = key >> 1;
-        if (name >= id_of_name.size()) id_of_name.resize(std::max<std::size_t>(name + 1, 2 * id_of_name.size()), k_unset);
-        std::uint32_t id = id_of_name[name];
+        const std::uint32_t name = edge_names[slot];
+        const std::uint32_t number = name >> 1;
+        if (number >= id_of_name.size())
+            id_of_name.resize(std::max<std::size_t>(number + 1, 2 * id_of_name.size()), k_unset);
+        std::uint32_t id = id_of_name[number];
         if (id == k_unset) {
             id = static_cast<std::uint32_t>(edges.size());
-            id_of_name[name] = id;
+            id_of_name[number] = id;
             const std::uint32_t t = static_cast<std::uint32_t>(slot / 3), e = static_cast<std::uint32_t>(slot % 3);
             const std::uint32_t u = tris[t].v[e], w = tris[t].v[(e + 1) % 3];
             // Filled in place: a local PatchEdge copied in whole right
@@ -331,7 +332,7 @@ void Patch::build_edges() {
             edge.a = u_first ? u : w;
             edge.b = u_first ? w : u;
             edge.valid = derived[edge.a].has_ring && derived[edge.b].has_ring;
-            edge.crease = (key & 1u) != 0;
+            edge.crease = (name & 1u) != 0;
         }
         PatchEdge& edge = edges[id];
         tri_edges[slot] = id;
@@ -339,7 +340,7 @@ void Patch::build_edges() {
         ++edge.slot_count;
     }
     for (PatchEdge& edge : edges) {
-        id_of_name[edge_keys[edge.slot[0]] >> 1] = k_unset;
+        id_of_name[edge_names[edge.slot[0]] >> 1] = k_unset;
         edge.curve = edge.crease || edge.slot_count == 1;  // or a boundary
     }
 }
@@ -494,7 +495,7 @@ namespace {
 /// then edge points) and nine edge names (Patch::subdivide_topology).
 struct ChildTables {
     std::uint8_t point[4][3];
-    std::uint8_t key[4][3];
+    std::uint8_t name[4][3];
 };
 
 const ChildTables& child_tables(bool parent_down) {
@@ -509,11 +510,11 @@ const ChildTables& child_tables(bool parent_down) {
                     out[down].point[c][k] = static_cast<std::uint8_t>(p.is_edge ? 3 + p.index : p.index);
                     if (p.is_edge && q.is_edge) {
                         // The inner edge between two edge points lies opposite the third.
-                        out[down].key[c][k] = static_cast<std::uint8_t>(6 + (3 - p.index - q.index));
+                        out[down].name[c][k] = static_cast<std::uint8_t>(6 + (3 - p.index - q.index));
                     } else {
                         const ChildCorner& corner = p.is_edge ? q : p;
                         const ChildCorner& mid = p.is_edge ? p : q;
-                        out[down].key[c][k] =
+                        out[down].name[c][k] =
                             static_cast<std::uint8_t>(2 * mid.index + (corner.index == mid.index ? 0 : 1));
                     }
                 }
@@ -536,7 +537,7 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
     }
     // Each triangle becomes four, in the hierarchy's child order.
     next.tris.resize(4 * tris.size());
-    next.edge_keys.resize(3 * next.tris.size());
+    next.edge_names.resize(3 * next.tris.size());
     const std::uint32_t inner_names = 2 * static_cast<std::uint32_t>(edges.size());
     Flags keyed(edges.size(), false);
     const std::uint32_t triangle_count = static_cast<std::uint32_t>(tris.size());
@@ -553,10 +554,10 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
             nv.true_ring = true_incident_count(topo, nv.key);
         }
         // The children's corners (the parent's, then its edge points) and
-        // edge names (edge_keys): the half of parent edge e at its corner e,
+        // edge names (edge_names): the half of parent edge e at its corner e,
         // the half at corner e + 1, then the inner edge opposite edge point k.
         std::uint32_t point[6];
-        std::uint32_t key[9];
+        std::uint32_t name[9];
         for (int e = 0; e < 3; ++e) {
             const std::uint32_t id = tri_edges[3 * t + e];
             const PatchEdge& parent = edges[id];
@@ -564,18 +565,18 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
             const std::uint32_t crease = parent.crease ? 1u : 0u;
             point[e] = pt.v[e];
             point[3 + e] = old_count + id;
-            key[2 * e] = ((2 * id + first_half) << 1) | crease;
-            key[2 * e + 1] = ((2 * id + (1u - first_half)) << 1) | crease;
-            key[6 + e] = (inner_names + 3 * t + static_cast<std::uint32_t>(e)) << 1;
+            name[2 * e] = ((2 * id + first_half) << 1) | crease;
+            name[2 * e + 1] = ((2 * id + (1u - first_half)) << 1) | crease;
+            name[6 + e] = (inner_names + 3 * t + static_cast<std::uint32_t>(e)) << 1;
         }
         const ChildTables& table = child_tables(pt.id.down);
         for (int c = 0; c < 4; ++c) {
             PatchTriangle& child = next.tris[4 * t + c];
             child.id = child_of(pt.id, c);
-            std::uint32_t* child_keys = &next.edge_keys[3 * (4 * t + c)];
+            std::uint32_t* child_names = &next.edge_names[3 * (4 * t + c)];
             for (int k = 0; k < 3; ++k) {
                 child.v[k] = point[table.point[c][k]];
-                child_keys[k] = key[table.key[c][k]];
+                child_names[k] = name[table.name[c][k]];
             }
         }
     }
@@ -656,9 +657,13 @@ Patch Patch::copy_of(const Patch& src, const std::vector<std::uint32_t>& kept) {
     if (!src.draw.empty()) out.draw.reserve(out.verts.capacity());
     thread_local std::vector<std::uint32_t> sources;
     sources.clear();
-    out.edge_keys.reserve(3 * kept.size());
+    // Names carried where the source has them (else finish() names the copy).
+    const bool named = src.edge_names.size() == 3 * src.tris.size();
+    if (named) out.edge_names.reserve(3 * kept.size());
     for (std::uint32_t t : kept) {
-        out.edge_keys.insert(out.edge_keys.end(), src.edge_keys.begin() + 3 * t, src.edge_keys.begin() + 3 * t + 3);
+        if (named)
+            out.edge_names.insert(out.edge_names.end(), src.edge_names.begin() + 3 * t,
+                                  src.edge_names.begin() + 3 * t + 3);
         PatchTriangle tri = src.tris[t];
         for (std::uint32_t& v : tri.v) {
             if (remap[v] == UINT32_MAX) {

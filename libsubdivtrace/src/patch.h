@@ -126,12 +126,13 @@ public:
     std::vector<PatchEdge> edges;
     std::vector<std::uint32_t> tri_edges;
     /// Per corner slot 3t+e, a name of the edge from corner e to e+1 that
-    /// every triangle on it shares: (number << 1) | crease bit. Numbered by
-    /// base_patch, then derived from the parent's edges by each subdivision
-    /// (a half of parent edge p is 2p or 2p + 1, an inner edge of parent
-    /// triangle t is 2E + 3t + k) and carried by copies, so finish() finds
-    /// the edges by direct indexing, without hashing vertex pairs.
-    std::vector<std::uint32_t> edge_keys;
+    /// every triangle on it shares: (number << 1) | crease bit. Derived from
+    /// the parent's edges by each subdivision (a half of parent edge p is
+    /// number 2p or 2p + 1, an inner edge of parent triangle t 2E + 3t + k)
+    /// and carried by copies, so finish() finds the edges by direct
+    /// indexing; a patch without names (a base patch, a frontier that
+    /// dropped them) is named by vertex pairs first (name_edges).
+    std::vector<std::uint32_t> edge_names;
 
     /// Rings, completeness, edges, curves, normals and (Loop) draw positions
     /// of vertices born at this level.
@@ -225,7 +226,7 @@ public:
     std::size_t owned_bytes() const;
 
 private:
-    /// Names the edges (edge_keys) by their vertex pairs: for base patches,
+    /// Names the edges (edge_names) by their vertex pairs: for base patches,
     /// and patches that dropped their names (drop_derived).
     void name_edges(const BaseTopology& topo);
     void build_edges();
