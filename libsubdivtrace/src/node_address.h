@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #include "subdivtrace/node_id.h"
 
@@ -80,6 +81,34 @@ inline NodeId ancestor_at(const NodeId& id, int level) {
     a.j = id.j >> s;
     a.down = (id.i & mask) + (id.j & mask) + (id.down ? 1u : 0u) > mask;
     return a;
+}
+
+/// The node's place in the hierarchy's depth-first order within its face:
+/// its child index at each level from 1 down, two bits each, from the top
+/// bit. A node's descendants follow it, before its next sibling, so those
+/// at one level are the contiguous range depth_first_span() gives. Levels
+/// up to 31 (the tracer caps them at 16).
+inline std::uint64_t depth_first_key(const NodeId& id) {
+    std::uint64_t key = 0;
+    for (int level = 1; level <= id.level; ++level) {
+        const NodeId node = ancestor_at(id, level);
+        const NodeId parent = ancestor_at(id, level - 1);
+        const std::uint32_t di = node.i - 2 * parent.i, dj = node.j - 2 * parent.j;
+        // child_of's layout: an up parent's children 0-2 are up at (0,0),
+        // (1,0), (0,1), child 3 down; a down parent's 0-2 are down at (1,0),
+        // (1,1), (0,1), child 3 up.
+        const std::uint64_t child = parent.down ? (!node.down ? 3 : dj == 0 ? 0 : di == 1 ? 1 : 2)
+                                                : (node.down ? 3 : di + 2 * dj);
+        key |= child << (62 - 2 * level);
+    }
+    return key;
+}
+
+/// The keys depth_first_key() gives the descendants of `id` (any level):
+/// [first, last).
+inline std::pair<std::uint64_t, std::uint64_t> depth_first_span(const NodeId& id) {
+    const std::uint64_t first = depth_first_key(id);
+    return {first, first + (std::uint64_t{1} << (62 - 2 * id.level))};
 }
 
 /// The grid triangles of resolution n that have grid point (i, j) as a

@@ -159,9 +159,23 @@ TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vec
     // below_deepest() built once, so each cut costs its own size).
     if (!below_parent.has_incidence())
         throw std::logic_error("subdivtrace tile: a child tile's start has no incident lists (Tile::below_deepest builds them)");
+    // Its triangles are in the hierarchy's order (patch.h), so each root's
+    // descendants are a contiguous run, found by binary search (a scan of
+    // the whole patch per group was 1.5% of a close-up's instructions).
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> spans;
+    spans.reserve(roots.size());
+    for (const NodeId& r : roots) spans.push_back(depth_first_span(r));
+    std::sort(spans.begin(), spans.end());
+    const std::vector<PatchTriangle>& tris = below_parent.tris;
+    const auto before = [&](const PatchTriangle& t, std::uint64_t key) {
+        return t.id.face != face ? t.id.face < face : depth_first_key(t.id) < key;
+    };
     std::vector<std::uint32_t> region;
-    for (std::uint32_t t = 0; t < below_parent.tris.size(); ++t)
-        if (in_group(below_parent.tris[t].id)) region.push_back(t);
+    for (const auto& [first, last] : spans) {
+        const auto from = std::lower_bound(tris.begin(), tris.end(), first, before);
+        const auto to = std::lower_bound(from, tris.end(), last, before);
+        for (auto it = from; it != to; ++it) region.push_back(static_cast<std::uint32_t>(it - tris.begin()));
+    }
     level_ = Patch::copy_of(below_parent, below_parent.band_around(region));
     prepare(ctx, in_group);
 }

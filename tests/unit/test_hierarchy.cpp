@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <set>
 #include <random>
 #include <thread>
@@ -298,6 +299,41 @@ TEST_CASE("a node's ancestor by grid arithmetic is the one its child path went t
     }
     CHECK(checked == 2000 * 55);
     CHECK(wrong == 0);
+}
+
+TEST_CASE("depth-first keys follow the child paths: each node's descendants are one contiguous span",
+          "[hierarchy]") {
+    // A child tile group finds its triangles by binary search over these
+    // keys; the truth is a depth-first walk of child_of in child order.
+    for (const bool down_root : {false, true}) {
+        NodeId root = Hierarchy::root(3);
+        if (down_root) root = child_of(child_of(root, 1), 3);  // a "down" node at level 2
+        std::vector<NodeId> order;  // every descendant to 4 levels below, depth first
+        const std::function<void(const NodeId&, int)> walk = [&](const NodeId& id, int depth) {
+            order.push_back(id);
+            if (depth < 4)
+                for (int c = 0; c < 4; ++c) walk(child_of(id, c), depth + 1);
+        };
+        walk(root, 0);
+        int out_of_order = 0, outside = 0, foreign = 0;
+        for (std::size_t k = 1; k < order.size(); ++k)
+            out_of_order += order[k].level == order[k - 1].level + 1
+                                ? !(detail::depth_first_key(order[k]) == detail::depth_first_key(order[k - 1]))
+                                : !(detail::depth_first_key(order[k - 1]) < detail::depth_first_key(order[k]));
+        for (const NodeId& a : order) {
+            const auto [first, last] = detail::depth_first_span(a);
+            for (const NodeId& b : order) {
+                const bool inside = first <= detail::depth_first_key(b) && detail::depth_first_key(b) < last;
+                const bool descends = b.level >= a.level && detail::ancestor_at(b, a.level) == a;
+                outside += descends && !inside;
+                foreign += inside && !descends && b.level >= a.level;
+            }
+        }
+        CHECK(order.size() == 341);
+        CHECK(out_of_order == 0);
+        CHECK(outside == 0);
+        CHECK(foreign == 0);
+    }
 }
 
 TEST_CASE("shading normals are the next level's normals at a node's corners and edge midpoints",
