@@ -42,6 +42,17 @@ private:
     std::chrono::steady_clock::time_point start_;
 };
 
+/// Corner k of a record from grid point v of a tile level (all but the
+/// edge normals, which are kept per grid edge).
+void set_corner(const TileLevel& level, std::size_t v, int k, NodeRecord& rec) {
+    const TilePoint& point = level.points[v];
+    rec.position[k] = point.position;
+    rec.normal[k] = point.normal;
+    rec.shading_normal[k] = Vec3(point.shading);
+    rec.displacement[k] = point.displacement;
+    rec.draw_position[k] = level.draw.empty() ? point.position : level.draw[v];
+}
+
 /// Triangle index of local grid position (x, y) among the n^2 triangles of
 /// resolution n: "up" triangles row by row, then "down" ones.
 std::size_t local_triangle_index(std::uint32_t n, std::uint32_t x, std::uint32_t y, bool down) {
@@ -336,12 +347,7 @@ void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const 
             const std::size_t v = map[k].is_edge ? mid[map[k].index] : corner[map[k].index];
             index[k] = v;
             at[k] = map[k].is_edge ? &mid_grid[map[k].index] : &corner_grid[map[k].index];
-            const TilePoint& point = level.points[v];
-            rec.position[k] = point.position;
-            rec.normal[k] = point.normal;
-            rec.shading_normal[k] = Vec3(point.shading);
-            rec.displacement[k] = point.displacement;
-            rec.draw_position[k] = level.draw.empty() ? point.position : level.draw[v];
+            set_corner(level, v, k, rec);
         }
         for (int k = 0; k < 3; ++k) {
             // As edge_slot(), with both ends' indices already known.
@@ -358,12 +364,7 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
     const auto grid = node_corner_grid(id);
     for (int c = 0; c < 3; ++c) {
         const std::size_t v = vertex_index(id, grid[c][0], grid[c][1]);
-        const TilePoint& point = level.points[v];
-        rec.position[c] = point.position;
-        rec.normal[c] = point.normal;
-        rec.shading_normal[c] = Vec3(point.shading);
-        rec.displacement[c] = point.displacement;
-        rec.draw_position[c] = level.draw.empty() ? point.position : level.draw[v];
+        set_corner(level, v, c, rec);
         const auto [direction, slot] = edge_slot(id, grid[c], grid[(c + 1) % 3]);
         rec.edge_normal[c] = level.points[slot].edge_normal[direction];
     }
