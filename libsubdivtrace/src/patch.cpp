@@ -34,6 +34,67 @@ std::uint16_t true_incident_count(const BaseTopology& topo, const VertexKey& key
 
 }  // namespace
 
+namespace {
+
+/// Empties `v` and returns its memory (`v = {}` would keep the capacity).
+template <class T>
+void release(std::vector<T>& v) {
+    std::vector<T>().swap(v);
+}
+
+/// The derived arrays of the last patch this thread dropped, for the next
+/// one it finishes: a tile level finishes two patches and drops both, and
+/// allocating their ten arrays anew each time was a fifth of a render's
+/// allocations. Arrays above k_spare_bytes are freed, not kept.
+struct SpareDerived {
+    std::vector<VertexDerived> derived;
+    std::vector<Vec3> corner_normal;
+    std::vector<std::uint16_t> corner_sector;
+    std::vector<Patch::Ring> rings;
+    std::vector<std::uint32_t> ring_nbrs;
+    std::vector<std::uint8_t> ring_curve;
+    std::vector<std::uint32_t> incident_offsets;
+    std::vector<std::uint32_t> incident_slots;
+    std::vector<PatchEdge> edges;
+    std::vector<std::uint32_t> tri_edges;
+};
+thread_local SpareDerived spare;
+constexpr std::size_t k_spare_bytes = std::size_t{1} << 20;
+
+/// Gives `v` the spare's block if it has none.
+template <class T>
+void borrow(std::vector<T>& v, std::vector<T>& from) {
+    if (v.capacity() == 0 && from.capacity() != 0) {
+        v.swap(from);
+        v.clear();
+    }
+}
+
+/// Keeps v's block as the spare (the larger of the two, up to
+/// k_spare_bytes), and leaves v without memory.
+template <class T>
+void give_back(std::vector<T>& v, std::vector<T>& to) {
+    if (v.capacity() > to.capacity() && v.capacity() * sizeof(T) <= k_spare_bytes) v.swap(to);
+    release(v);
+}
+
+/// Applies op(patch array, spare array) to each derived array.
+template <class Op>
+void for_each_derived(Patch& p, Op op) {
+    op(p.derived, spare.derived);
+    op(p.corner_normal, spare.corner_normal);
+    op(p.corner_sector, spare.corner_sector);
+    op(p.rings, spare.rings);
+    op(p.ring_nbrs, spare.ring_nbrs);
+    op(p.ring_curve, spare.ring_curve);
+    op(p.incident_offsets, spare.incident_offsets);
+    op(p.incident_slots, spare.incident_slots);
+    op(p.edges, spare.edges);
+    op(p.tri_edges, spare.tri_edges);
+}
+
+}  // namespace
+
 void Patch::build_incidence() {
     // Incident (triangle, corner) slots per vertex, CSR.
     const std::size_t n = verts.size();
@@ -52,6 +113,7 @@ void Patch::build_incidence() {
 
 void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     const std::size_t n = verts.size();
+    for_each_derived(*this, [](auto& v, auto& from) { borrow(v, from); });
     build_incidence();
     if (edge_names.size() != 3 * tris.size()) name_edges(topo);
     const std::vector<std::uint32_t>& offsets = incident_offsets;
@@ -208,27 +270,12 @@ void Patch::fill_vertex_ring(std::uint32_t v, VertexRing& ring) const {
         for (int k = 0; k < 2; ++k) ring.curve[k] = verts[d.curve[k]].position;
 }
 
-namespace {
-
-/// Empties `v` and returns its memory (`v = {}` would keep the capacity).
-template <class T>
-void release(std::vector<T>& v) {
-    std::vector<T>().swap(v);
+void Patch::give_back_derived() {
+    for_each_derived(*this, [](auto& v, auto& to) { give_back(v, to); });
 }
 
-}  // namespace
-
 void Patch::drop_derived() {
-    release(derived);
-    release(corner_normal);
-    release(corner_sector);
-    release(rings);
-    release(ring_nbrs);
-    release(ring_curve);
-    release(incident_offsets);
-    release(incident_slots);
-    release(edges);
-    release(tri_edges);
+    give_back_derived();
     verts.shrink_to_fit();
     draw.shrink_to_fit();
     tris.shrink_to_fit();

@@ -221,8 +221,12 @@ public:
         dv.has_normal = true;
     }
 
-    /// Frees rings, edges and edge names (finish() rebuilds them).
+    /// Frees rings, edges and edge names (finish() rebuilds them) and
+    /// shrinks the rest to fit, for a patch that waits in a tile.
     void drop_derived();
+    /// Frees rings and edges alone: this thread keeps their blocks for the
+    /// next patch it finishes (a patch about to be destroyed gives them back).
+    void give_back_derived();
     std::size_t owned_bytes() const;
 
 private:

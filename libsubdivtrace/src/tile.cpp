@@ -197,7 +197,9 @@ void TileGroup::prepare(const TileContext& ctx, InGroup in_group) {
     memo_ = std::make_unique<ShadingMemo>(level_);
 }
 
-TileGroup::~TileGroup() = default;
+TileGroup::~TileGroup() {
+    level_.give_back_derived();  // its arrays serve the next patch this thread finishes
+}
 
 Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     : ctx_(&ctx), root_(root), levels_(std::min(k_tile_depth, ctx.max_level - root.level)) {
@@ -238,6 +240,7 @@ Patch Tile::split_band(Patch& q) const {
     q.finish(ctx_->topo, ctx_->scheme);
     Flags kept;
     Patch next = q.subdivide_band(ctx_->topo, ctx_->scheme, [&](const NodeId& id) { return in_tile(id); }, kept);
+    q.give_back_derived();  // its arrays serve the next patch this thread finishes
     next.keep_only(kept);
     return next;
 }
