@@ -278,7 +278,8 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
     out.points.resize((n + 1) * (n + 2) / 2);
     if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.points.size());
     out.shells.resize(n * n);
-    std::vector<Shell> shells(n * n);
+    thread_local std::vector<Shell> shells;  // in double precision until compacted below
+    shells.assign(n * n, Shell{});
     for (std::uint32_t t : tile_tris) {
         const PatchTriangle& tri = q.tris[t];
         for (std::uint32_t v : tri.v) q.ensure_normal(ctx_->topo, ctx_->scheme, v);
