@@ -761,6 +761,21 @@ std::vector<std::uint32_t> Patch::band_around(const std::vector<std::uint32_t>& 
         }
         vertex_mark[v] = 0;
     }
+    if (found.empty()) return {};
+    // Ascending: a scan of the marks between the lowest and highest where
+    // they lie close (a tile's band in its group's level), else a sort.
+    const auto [low, high] = std::minmax_element(found.begin(), found.end());
+    const std::uint32_t first = *low, last = *high;
+    if (last - first <= 16 * found.size()) {
+        std::vector<std::uint32_t> band;
+        band.reserve(found.size());
+        for (std::uint32_t t = first; t <= last; ++t)
+            if (triangle_mark[t]) {
+                triangle_mark[t] = 0;
+                band.push_back(t);
+            }
+        return band;
+    }
     for (std::uint32_t t : found) triangle_mark[t] = 0;
     std::sort(found.begin(), found.end());
     return std::vector<std::uint32_t>(found.begin(), found.end());
