@@ -45,20 +45,9 @@ void release(std::vector<T>& v) {
 /// The derived arrays of the last patch this thread dropped, for the next
 /// one it finishes: a tile level finishes two patches and drops both, and
 /// allocating their ten arrays anew each time was a fifth of a render's
-/// allocations. Arrays above k_spare_bytes are freed, not kept.
-struct SpareDerived {
-    std::vector<VertexDerived> derived;
-    std::vector<Vec3> corner_normal;
-    std::vector<std::uint16_t> corner_sector;
-    std::vector<Patch::Ring> rings;
-    std::vector<std::uint32_t> ring_nbrs;
-    std::vector<std::uint8_t> ring_curve;
-    std::vector<std::uint32_t> incident_offsets;
-    std::vector<std::uint32_t> incident_slots;
-    std::vector<PatchEdge> edges;
-    std::vector<std::uint32_t> tri_edges;
-};
-thread_local SpareDerived spare;
+/// allocations. A patch whose derived arrays alone are used; arrays above
+/// k_spare_bytes are freed, not kept.
+thread_local Patch spare;
 constexpr std::size_t k_spare_bytes = std::size_t{1} << 20;
 
 /// Gives `v` the spare's block if it has none.
