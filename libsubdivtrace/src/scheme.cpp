@@ -16,7 +16,10 @@
 // The normals' angle loops in a second, AVX2 build chosen at load time where
 // the processor has it (four doubles a lane group instead of SSE2's two).
 // AVX2 alone has no fused multiply-add, so both builds give the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// Not under the sanitizers: a ThreadSanitizer build crashes at start-up in
+// the load-time chooser, which runs before its runtime is set up.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_THREAD__) && !defined(__SANITIZE_ADDRESS__)
 #define SUBDIVTRACE_WIDE_VECTORS __attribute__((target_clones("avx2", "default")))
 #else
 #define SUBDIVTRACE_WIDE_VECTORS
