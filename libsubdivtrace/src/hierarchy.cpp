@@ -156,7 +156,7 @@ public:
     HierarchyImpl(const Mesh& mesh, SchemeKind scheme, int max_level,
                   std::shared_ptr<TileCache> shared_cache, ShellKind shell_kind)
         : topo(mesh),
-          context{topo, scheme, shell_kind, max_level, &nodes_built, &tile_build_ns, nullptr, {}},
+          context{topo, detail::rules_of(scheme), shell_kind, max_level, &nodes_built, &tile_build_ns, nullptr, {}},
           roots(context),
           cache(std::move(shared_cache)),
           tiles(cache->impl()) {
@@ -294,7 +294,7 @@ Hierarchy::Hierarchy(const Mesh& mesh, SchemeKind scheme, int max_level,
 
 Hierarchy::~Hierarchy() = default;
 
-SchemeKind Hierarchy::scheme() const { return impl_->context.scheme; }
+SchemeKind Hierarchy::scheme() const { return impl_->context.scheme.kind; }
 int Hierarchy::max_level() const { return impl_->context.max_level; }
 std::size_t Hierarchy::face_count() const { return impl_->topo.face_count(); }
 bool Hierarchy::closed() const { return impl_->topo.closed(); }

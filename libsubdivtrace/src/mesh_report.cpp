@@ -2,6 +2,7 @@
 #include "subdivtrace/mesh_report.h"
 
 #include "creases.h"
+#include "scheme_rules.h"
 
 #include <algorithm>
 #include <array>
@@ -224,7 +225,7 @@ MeshReport analyze_mesh(const Mesh& mesh) {
 }
 
 std::string given_normals_warning(const Mesh& mesh, SchemeKind scheme, const std::string& source) {
-    if (!mesh.has_normals() || scheme == SchemeKind::normal) return "";
+    if (!mesh.has_normals() || detail::rules_of(scheme).takes_given_normals) return "";
     std::size_t creases = 0;
     for (std::uint8_t m : detail::crease_masks(mesh)) creases += (m & 1u) + (m >> 1 & 1u) + (m >> 2 & 1u);
     std::string w = source + ": the " + scheme_name(scheme) +

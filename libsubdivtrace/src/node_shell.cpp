@@ -75,7 +75,7 @@ Shell CompactShell::expand(const Vec3& origin) const {
 }
 
 Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const NodeRecord& rec,
-                       SchemeKind scheme, ShellKind shell_kind, int max_level) {
+                       const SchemeRules& scheme, ShellKind shell_kind, int max_level) {
     const PatchTriangle& tri = p.tris[t];
     // Slab axis: the node's own plane (or its corners' mean normal if it is degenerate).
     Shell shell;
@@ -91,7 +91,7 @@ Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const
     }
 
     if (tri.id.level < max_level) {
-        if (scheme == SchemeKind::loop) {
+        if (scheme.convex_rules) {
             // Loop's stencils are convex combinations, so every descendant
             // of a child (and every limit point it draws) lies in the hull of
             // its corners' 1-rings one level down. Over the four children

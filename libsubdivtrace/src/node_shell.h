@@ -36,6 +36,6 @@ float round_down(double x);
 /// the scheme's reach over its descendants (from `next`, the level below,
 /// unless t is at max_level) and padded for the stencils' rounding.
 Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const NodeRecord& rec,
-                       SchemeKind scheme, ShellKind shell_kind, int max_level);
+                       const SchemeRules& scheme, ShellKind shell_kind, int max_level);
 
 }  // namespace subdivtrace::detail

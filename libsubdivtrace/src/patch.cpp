@@ -100,7 +100,7 @@ void Patch::build_incidence() {
         for (std::uint32_t c = 0; c < 3; ++c) slots[fill[tris[t].v[c]]++] = 3 * t + c;
 }
 
-void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
+void Patch::finish(const BaseTopology& topo, const SchemeRules& scheme) {
     const std::size_t n = verts.size();
     for_each_derived(*this, [](auto& v, auto& from) { borrow(v, from); });
     build_incidence();
@@ -126,10 +126,10 @@ void Patch::finish(const BaseTopology& topo, SchemeKind scheme) {
     ring_curve.clear();
     corner_normal.assign(3 * tris.size(), Vec3(0.0));
     corner_sector.assign(3 * tris.size(), 0);
-    if (scheme == SchemeKind::loop) draw.resize(verts.size(), Vec3(0.0));
+    if (scheme.draws_limit_points()) draw.resize(verts.size(), Vec3(0.0));
     for (std::uint32_t v = 0; v < n; ++v)
         if (derived[v].has_ring) finish_vertex(topo, scheme, v);
-    if (scheme != SchemeKind::loop)
+    if (!scheme.draws_limit_points())
         for (PatchVertex& pv : verts) pv.has_draw = pv.has_position;
 }
 
@@ -166,14 +166,14 @@ void ring_pairs(const Patch& p, std::uint32_t v, std::vector<SlotPair>& pairs) {
 
 }  // namespace
 
-void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v) {
+void Patch::finish_vertex(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v) {
     PatchVertex& pv = verts[v];
     VertexDerived& dv = derived[v];
     const bool on_curve = may_be_on_curve(topo, pv.key);
-    // Loop's and Butterfly's rings are walked in the canonical order; curves
-    // and sectors do not depend on it.
+    // Ordered rings are walked in the canonical order; curves and sectors do
+    // not depend on it.
     thread_local std::vector<SlotPair> pairs;
-    if (scheme != SchemeKind::normal || on_curve) ring_pairs(*this, v, pairs);
+    if (scheme.reads_ordered_rings() || on_curve) ring_pairs(*this, v, pairs);
 
     // Curves and sectors, where a boundary or crease can pass.
     if (on_curve) {
@@ -210,9 +210,8 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
                 corner_sector[pairs[k].slot] = static_cast<std::uint16_t>(labels[k]);
     }
 
-    if (scheme != SchemeKind::normal) {
-        // Loop's and Butterfly's stencils read the ordered ring; the normal
-        // scheme only sums the pairs.
+    if (scheme.reads_ordered_rings()) {
+        // Rules that read the ring read it ordered; normals only sum the pairs.
         thread_local std::vector<FanPair<std::uint32_t>> fan;
         thread_local OrderedRing<std::uint32_t> ordered;
         fan.clear();
@@ -237,11 +236,11 @@ void Patch::finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint
         }
     }
 
-    if (scheme == SchemeKind::loop && pv.key.level == level) {
-        // Loop draws a vertex at its limit point, from its birth-level ring.
+    if (scheme.draws_limit_points() && pv.key.level == level) {
+        // A vertex is drawn at its limit point, from its birth-level ring.
         thread_local VertexRing ring;
         fill_vertex_ring(v, ring);
-        draw[v] = loop_limit_point(ring);
+        draw[v] = scheme.drawn_point(ring);
         pv.has_draw = true;
     }
 }
@@ -381,15 +380,15 @@ void Patch::build_edges() {
     }
 }
 
-Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
-    if (scheme == SchemeKind::normal && !e.curve) {
+Vec3 Patch::edge_point(const SchemeRules& scheme, const PatchEdge& e) const {
+    if (!e.curve && scheme.smooth_edge_rule != nullptr) {
         // Most edges: the two endpoints' normals in the edge's sector (any
         // triangle on it), without filling a whole stencil.
         const std::uint32_t t = e.slot[0] / 3, c = e.slot[0] % 3;
         const bool a_first = tris[t].v[c] == e.a;
-        return normal_edge_point(verts[e.a].position, verts[e.b].position,
-                                 corner_normal[3 * t + (a_first ? c : (c + 1) % 3)],
-                                 corner_normal[3 * t + (a_first ? (c + 1) % 3 : c)]);
+        return scheme.smooth_edge_rule(verts[e.a].position, verts[e.b].position,
+                                       corner_normal[3 * t + (a_first ? c : (c + 1) % 3)],
+                                       corner_normal[3 * t + (a_first ? (c + 1) % 3 : c)]);
     }
     EdgeStencil s;
     s.a = verts[e.a].position;
@@ -399,11 +398,10 @@ Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
         fill_curve_end(e.a, e.b, s.has_a_far, s.a_far, s.normal_a);
         fill_curve_end(e.b, e.a, s.has_b_far, s.b_far, s.normal_b);
     }
-    if (scheme == SchemeKind::normal) return subdivtrace::edge_point(scheme, s);  // a curve edge
     // As LevelTopology: interior when exactly two triangles share the edge;
     // c is the third vertex of the one that runs a -> b, d of the other.
     s.interior = e.slot_count == 2;
-    if (s.interior) {
+    if (s.interior && scheme.edge_rule_reads_opposites) {
         std::uint32_t third[2];
         bool forward[2];
         for (int k = 0; k < 2; ++k) {
@@ -419,9 +417,11 @@ Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
         s.c = verts[first_is_c ? third[0] : third[1]].position;
         s.d = verts[first_is_c ? third[1] : third[0]].position;
     }
-    const Ring& ra = rings[e.a];
-    VertexRing ring_a, ring_b;
-    if (scheme == SchemeKind::butterfly) {
+    if (scheme.edge_rule_reads_rings) {
+        // Kept by the thread so an edge's rings reuse their arrays, and only
+        // schemes that read rings build them.
+        thread_local VertexRing ring_a, ring_b;
+        const Ring& ra = rings[e.a];
         fill_vertex_ring(e.a, ring_a);
         fill_vertex_ring(e.b, ring_b);
         const Ring& rb = rings[e.b];
@@ -434,7 +434,7 @@ Vec3 Patch::edge_point(SchemeKind scheme, const PatchEdge& e) const {
         s.ring_a = &ring_a;
         s.ring_b = &ring_b;
     }
-    return subdivtrace::edge_point(scheme, s);
+    return scheme.edge_rule(s);
 }
 
 void Patch::fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,
@@ -451,12 +451,12 @@ void Patch::fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, 
     }
 }
 
-void Patch::compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v) {
+void Patch::compute_normal(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v) {
     VertexDerived& dv = derived[v];
     const PatchVertex& pv = verts[v];
     // The given normals of a base vertex (normal scheme, level 0), else
     // angle-weighted Gouraud over the sector's triangles.
-    const bool given = scheme == SchemeKind::normal && topo.has_given_normals() &&
+    const bool given = scheme.takes_given_normals && topo.has_given_normals() &&
                        pv.key.kind == VertexKey::base_vertex &&
                        (level == 0 || k_given_normals_every_level);
     // One normal per sector, summed in the canonical order (ring_pairs).
@@ -499,7 +499,7 @@ void Patch::compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uin
     dv.has_normal = true;
 }
 
-void Patch::next_positions(const BaseTopology& topo, SchemeKind scheme, const Flags* needed,
+void Patch::next_positions(const BaseTopology& topo, const SchemeRules& scheme, const Flags* needed,
                            Patch& next) {
     next.level = level + 1;
     next.verts.assign(verts.size() + edges.size(), PatchVertex{});
@@ -619,7 +619,7 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
     return next;
 }
 
-void Patch::compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch& next,
+void Patch::compute_positions(const BaseTopology& topo, const SchemeRules& scheme, Patch& next,
                               const Flags* needed) {
     const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
     const auto wanted = [&](std::uint32_t nv) { return needed == nullptr || (*needed)[nv]; };
@@ -634,12 +634,12 @@ void Patch::compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch
         const PatchVertex& pv = verts[v];
         PatchVertex& nv = next.verts[v];
         nv.has_draw = pv.has_draw;
-        if (scheme != SchemeKind::loop) {
+        if (!scheme.moves_old_vertices()) {
             nv.position = pv.position;
             nv.has_position = pv.has_position;
         } else if (derived[v].has_ring && wanted(v)) {
             fill_vertex_ring(v, ring);
-            nv.position = loop_vertex_point(ring);
+            nv.position = scheme.vertex_rule(ring);
             nv.has_position = true;
         }
         derived[v].displacement = 0.0;
@@ -660,7 +660,7 @@ void Patch::compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch
             continue;
         }
         if (!wanted(edge.point)) continue;
-        if (scheme == SchemeKind::normal) {
+        if (scheme.edge_rule_reads_normals) {
             ensure_normal(topo, scheme, edge.a);
             ensure_normal(topo, scheme, edge.b);
         }

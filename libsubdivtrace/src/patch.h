@@ -25,7 +25,7 @@
 
 #include "base_topology.h"
 #include "node_address.h"
-#include "subdivtrace/scheme.h"
+#include "scheme_rules.h"
 
 namespace subdivtrace::detail {
 
@@ -136,7 +136,7 @@ public:
 
     /// Rings, completeness, edges, curves, normals and (Loop) draw positions
     /// of vertices born at this level.
-    void finish(const BaseTopology& topo, SchemeKind scheme);
+    void finish(const BaseTopology& topo, const SchemeRules& scheme);
     /// The incident lists alone (finish() builds them first): what
     /// band_around() reads, for a patch cut many times before it is finished.
     void build_incidence();
@@ -170,7 +170,7 @@ public:
     /// invalid. Call after finish().
     /// Writes them into `next` (only its vertices and draw positions; it
     /// may be a reused scratch patch).
-    void next_positions(const BaseTopology& topo, SchemeKind scheme, const Flags* needed,
+    void next_positions(const BaseTopology& topo, const SchemeRules& scheme, const Flags* needed,
                         Patch& next);
     /// What next_positions() needs for the records of the triangles flagged
     /// in `region`: their vertices (moved by Loop) and every edge point at them.
@@ -182,7 +182,7 @@ public:
     /// next); `kept` receives that band, for keep_only() once the caller is
     /// done with the untrimmed indices. Call after finish().
     template <class Pred>
-    Patch subdivide_band(const BaseTopology& topo, SchemeKind scheme, Pred in_region,
+    Patch subdivide_band(const BaseTopology& topo, const SchemeRules& scheme, Pred in_region,
                          Flags& kept) {
         Patch next = subdivide_topology(topo);
         kept = next.band(in_region);
@@ -204,7 +204,7 @@ public:
     /// Computes v's corner normals (corner_normal, has_normal) if it has a
     /// whole ring and they are not computed yet: finish() leaves them to
     /// the first reader, as most of a patch's border never needs them.
-    void ensure_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v) {
+    void ensure_normal(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v) {
         // Inline: most calls find the normals there already.
         if (!derived[v].has_normal && derived[v].has_ring) compute_normal(topo, scheme, v);
     }
@@ -234,12 +234,12 @@ private:
     /// and patches that dropped their names (drop_derived).
     void name_edges(const BaseTopology& topo);
     void build_edges();
-    void compute_normal(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
+    void compute_normal(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v);
     Patch subdivide_topology(const BaseTopology& topo) const;
-    void compute_positions(const BaseTopology& topo, SchemeKind scheme, Patch& next,
+    void compute_positions(const BaseTopology& topo, const SchemeRules& scheme, Patch& next,
                            const Flags* needed);
-    void finish_vertex(const BaseTopology& topo, SchemeKind scheme, std::uint32_t v);
-    Vec3 edge_point(SchemeKind scheme, const PatchEdge& e) const;
+    void finish_vertex(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v);
+    Vec3 edge_point(const SchemeRules& scheme, const PatchEdge& e) const;
     void fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,
                         Vec3& normal) const;
     void trim_to(const Flags& keep);

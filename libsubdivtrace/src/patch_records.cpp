@@ -9,32 +9,19 @@ namespace subdivtrace::detail {
 
 namespace {
 
-/// Loop's limit normal from a closed ring of n points in counter-clockwise
-/// order (Halstead, Kass and DeRose 1993: the tangent masks cos(2 pi k / n),
-/// sin(2 pi k / n), centre weight 0); zero where the tangents are parallel.
-template <class RingPoint>
-Vec3 loop_tangent_normal(std::size_t n, RingPoint ring_point) {
-    constexpr double k_two_pi = 6.283185307179586476925;
-    Vec3 t1(0.0), t2(0.0);
-    for (std::size_t k = 0; k < n; ++k) {
-        const double a = k_two_pi * static_cast<double>(k) / static_cast<double>(n);
-        t1 += std::cos(a) * ring_point(k);
-        t2 += std::sin(a) * ring_point(k);
-    }
-    return finish_normal(glm::cross(t1, t2));
-}
-
-/// Loop's limit normal at a vertex whose ring is one closed fan; false where
-/// no such mask applies (open or irregular rings, creases, curve vertices).
-bool loop_limit_normal(const Patch& p, std::uint32_t v, Vec3& normal) {
+/// The scheme's limit normal at a vertex whose ring is one closed fan;
+/// false where no such mask applies (the scheme has none; open or irregular
+/// rings, creases, curve vertices).
+bool ring_limit_normal(const SchemeRules& scheme, const Patch& p, std::uint32_t v, Vec3& normal) {
     const VertexDerived& d = p.derived[v];
     const Patch::Ring& r = p.rings[v];
-    if (!d.has_ring || !d.single_sector || d.curve_count != 0 || !r.closed || !r.regular ||
-        r.count < 3)
+    if (scheme.limit_normal == nullptr || !d.has_ring || !d.single_sector || d.curve_count != 0 ||
+        !r.closed || !r.regular || r.count < 3)
         return false;
-    normal = loop_tangent_normal(r.count, [&](std::size_t k) -> const Vec3& {
-        return p.verts[p.ring_nbrs[r.offset + k]].position;
-    });
+    thread_local std::vector<Vec3> ring;
+    ring.resize(r.count);
+    for (std::uint32_t k = 0; k < r.count; ++k) ring[k] = p.verts[p.ring_nbrs[r.offset + k]].position;
+    normal = scheme.limit_normal(ring.data(), r.count);
     return normal != Vec3(0.0);
 }
 
@@ -46,7 +33,7 @@ Vec3 compute_shading_normal(const TileContext& ctx, const Patch& p, const Patch&
     const std::uint32_t v = p.tris[t].v[c];
     const Vec3 own = p.corner_normal[3 * t + c];
     Vec3 limit;
-    if (ctx.scheme == SchemeKind::loop && loop_limit_normal(p, v, limit))
+    if (ring_limit_normal(ctx.scheme, p, v, limit))
         return glm::dot(limit, own) < 0.0 ? -limit : limit;
     // One level down: the corner's triangles there are (v, edge point, edge
     // point) for each of its triangles in the corner's sector.
@@ -98,8 +85,9 @@ bool continues_one_fan(const Patch& p, const PatchEdge& edge) {
 /// The normal at the midpoint of edge e of triangle t one level down
 /// (NodeRecord::edge_normal): from the edge point's ring there, the
 /// children of the edge's two triangles (one, across a crease or boundary).
-/// Loop: its limit normal (the ring is regular, valence 6); otherwise the
-/// Gouraud normal of the ring's triangles.
+/// Where the scheme has limit normals, that of the regular ring (valence 6)
+/// the edge point has when the two triangles close it; otherwise the Gouraud
+/// normal of the ring's triangles.
 Vec3 compute_edge_midpoint_normal(const TileContext& ctx, const Patch& p, const Patch& next,
                                   std::uint32_t t, int e) {
     const PatchTriangle& tri = p.tris[t];
@@ -126,9 +114,9 @@ Vec3 compute_edge_midpoint_normal(const TileContext& ctx, const Patch& p, const 
         ring[count++] = point(3 * t2 + (e2 + 1) % 3);
         ring[count++] = point(3 * t2 + (e2 + 2) % 3);
     }
-    if (closed && ctx.scheme == SchemeKind::loop) {
+    if (closed && ctx.scheme.limit_normal != nullptr) {
         // The edge point is a regular vertex of level L+1 (valence 6).
-        const Vec3 n = loop_tangent_normal(6, [&](std::size_t k) -> const Vec3& { return ring[k]; });
+        const Vec3 n = ctx.scheme.limit_normal(ring.data(), 6);
         if (n != Vec3(0.0)) return n;
     }
     // The triangles (m, ring[k], ring[k + 1]), around the ring when it closes.
@@ -169,7 +157,7 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
     // The user's normals shade linearly, as mesh2 does (and are what the
     // user wants shaded); so does max_level, which draws the uniform
     // level-max_level mesh as it is.
-    const bool given = ctx.scheme == SchemeKind::normal && ctx.topo.has_given_normals() && p.level == 0;
+    const bool given = ctx.scheme.takes_given_normals && ctx.topo.has_given_normals() && p.level == 0;
     const bool quadratic = tri.id.level < ctx.max_level && !given;
     for (int c = 0; c < 3; ++c) {
         const PatchVertex& v = p.verts[tri.v[c]];

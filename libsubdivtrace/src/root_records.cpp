@@ -22,7 +22,7 @@ RootRecords::RootRecords(const TileContext& ctx) : mesh_(&ctx.topo.mesh()) {
     shading_.resize(vertex_count);
     displacement_.resize(vertex_count);
     edge_normal_.resize(3 * face_count);
-    if (ctx.scheme == SchemeKind::loop) draw_.resize(vertex_count);
+    if (ctx.scheme.draws_limit_points()) draw_.resize(vertex_count);
     shells_.resize(face_count);
 
     // A vertex keeps the values of its first corner, the one in its lowest

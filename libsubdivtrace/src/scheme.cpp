@@ -12,6 +12,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "corner_angle.h"
+#include "scheme_rules.h"
 
 // The normals' angle loops in a second, AVX2 build chosen at load time where
 // the processor has it (four doubles a lane group instead of SSE2's two).
@@ -84,20 +85,12 @@ Vec3 wing_or_mirror(const Vec3* wing, const Vec3& x, const Vec3& y, const Vec3& 
 }  // namespace
 
 std::optional<SchemeKind> parse_scheme(const std::string& name) {
-    if (name == "normal") return SchemeKind::normal;
-    if (name == "loop") return SchemeKind::loop;
-    if (name == "butterfly") return SchemeKind::butterfly;
+    for (SchemeKind kind : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly})
+        if (name == detail::rules_of(kind).name) return kind;
     return std::nullopt;
 }
 
-const char* scheme_name(SchemeKind kind) {
-    switch (kind) {
-        case SchemeKind::normal: return "normal";
-        case SchemeKind::loop: return "loop";
-        case SchemeKind::butterfly: return "butterfly";
-    }
-    return "?";
-}
+const char* scheme_name(SchemeKind kind) { return detail::rules_of(kind).name; }
 
 namespace {
 
@@ -145,6 +138,49 @@ Vec3 loop_limit_point(const VertexRing& ring) {
     Vec3 sum(0.0);
     for (const Vec3& q : ring.nbrs) sum += q;
     return sum * chi + ring.center * (1.0 - static_cast<double>(n) * chi);
+}
+
+namespace {
+
+/// cos and sin of 2 pi k / n, k < n: common valences from a table, since
+/// every vertex of every level a leaf shades at asks for its own.
+struct TangentMasks {
+    std::array<double, 16> cos{}, sin{};
+};
+
+TangentMasks tangent_masks_of(std::size_t n) {
+    TangentMasks m;
+    for (std::size_t k = 0; k < n && k < m.cos.size(); ++k) {
+        const double a = 2.0 * k_pi * static_cast<double>(k) / static_cast<double>(n);
+        m.cos[k] = std::cos(a);
+        m.sin[k] = std::sin(a);
+    }
+    return m;
+}
+
+}  // namespace
+
+Vec3 loop_limit_normal(const Vec3* ring, std::size_t n) {
+    static const std::array<TangentMasks, 17> table = [] {
+        std::array<TangentMasks, 17> t{};
+        for (std::size_t k = 1; k < t.size(); ++k) t[k] = tangent_masks_of(k);
+        return t;
+    }();
+    Vec3 t1(0.0), t2(0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+        double c, s;
+        if (n < table.size()) {
+            c = table[n].cos[k];
+            s = table[n].sin[k];
+        } else {
+            const double a = 2.0 * k_pi * static_cast<double>(k) / static_cast<double>(n);
+            c = std::cos(a);
+            s = std::sin(a);
+        }
+        t1 += c * ring[k];
+        t2 += s * ring[k];
+    }
+    return finish_normal(glm::cross(t1, t2));
 }
 
 Vec3 normal_edge_point(const Vec3& a, const Vec3& b, const Vec3& na, const Vec3& nb) {
@@ -228,16 +264,39 @@ Vec3 butterfly_edge_point(const EdgeStencil& s) {
     return sum / count;
 }
 
-Vec3 edge_point(SchemeKind kind, const EdgeStencil& s) {
-    switch (kind) {
-        case SchemeKind::normal:
-            return s.curve ? normal_curve_edge_point(s)
-                           : normal_edge_point(s.a, s.b, s.normal_a, s.normal_b);
-        case SchemeKind::loop: return loop_edge_point(s);
-        case SchemeKind::butterfly: return butterfly_edge_point(s);
-    }
-    return (s.a + s.b) * 0.5;
+namespace {
+
+/// The normal scheme's edge rule: the curve rule on a boundary or crease,
+/// else from the endpoints' normals.
+Vec3 normal_scheme_edge_point(const EdgeStencil& s) {
+    return s.curve ? normal_curve_edge_point(s) : normal_edge_point(s.a, s.b, s.normal_a, s.normal_b);
 }
+
+constexpr detail::SchemeRules k_normal_rules{
+    SchemeKind::normal, "normal", nullptr, normal_scheme_edge_point, normal_edge_point, nullptr, nullptr,
+    /*edge_rule_reads_normals=*/true, /*edge_rule_reads_opposites=*/false,
+    /*edge_rule_reads_rings=*/false, /*convex_rules=*/false, /*takes_given_normals=*/true};
+constexpr detail::SchemeRules k_loop_rules{
+    SchemeKind::loop, "loop", loop_vertex_point, loop_edge_point, nullptr, loop_limit_point, loop_limit_normal,
+    /*edge_rule_reads_normals=*/false, /*edge_rule_reads_opposites=*/true,
+    /*edge_rule_reads_rings=*/false, /*convex_rules=*/true, /*takes_given_normals=*/false};
+constexpr detail::SchemeRules k_butterfly_rules{
+    SchemeKind::butterfly, "butterfly", nullptr, butterfly_edge_point, nullptr, nullptr, nullptr,
+    /*edge_rule_reads_normals=*/false, /*edge_rule_reads_opposites=*/true,
+    /*edge_rule_reads_rings=*/true, /*convex_rules=*/false, /*takes_given_normals=*/false};
+
+}  // namespace
+
+const detail::SchemeRules& detail::rules_of(SchemeKind kind) {
+    switch (kind) {
+        case SchemeKind::normal: return k_normal_rules;
+        case SchemeKind::loop: return k_loop_rules;
+        case SchemeKind::butterfly: return k_butterfly_rules;
+    }
+    return k_normal_rules;
+}
+
+Vec3 edge_point(SchemeKind kind, const EdgeStencil& s) { return detail::rules_of(kind).edge_rule(s); }
 
 Vec3 angle_weighted_normal(const Vec3& p, const Vec3& q, const Vec3& r) {
     const Vec3 e1 = q - p;

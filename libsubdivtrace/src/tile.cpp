@@ -276,7 +276,7 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
     TileLevel& out = levels_[j - 1];
     const std::size_t n = std::size_t{1} << j;
     out.points.resize((n + 1) * (n + 2) / 2);
-    if (ctx_->scheme == SchemeKind::loop) out.draw.resize(out.points.size());
+    if (ctx_->scheme.draws_limit_points()) out.draw.resize(out.points.size());
     out.shells.resize(n * n);
     thread_local std::vector<Shell> shells;  // in double precision until compacted below
     shells.assign(n * n, Shell{});

@@ -32,7 +32,7 @@ struct ShadingMemo;
 /// What a tile build needs to know of the hierarchy.
 struct TileContext {
     const BaseTopology& topo;
-    SchemeKind scheme;
+    SchemeRules scheme;
     ShellKind shell_kind;
     int max_level;
     /// Running count of node records built (for statistics).

@@ -10,8 +10,12 @@
 
 #include "creases.h"
 #include "level_topology.h"
+#include "scheme_rules.h"
 
 namespace subdivtrace {
+
+using detail::rules_of;
+using detail::SchemeRules;
 
 namespace {
 
@@ -38,12 +42,12 @@ std::vector<Vec3> given_corner_normals(const Mesh& base, const std::vector<Trian
 }
 
 /// Whether the mesh's given normals are the scheme's at this level.
-bool given_at_level(const Mesh& base, SchemeKind scheme, int level, bool given_every_level) {
-    return scheme == SchemeKind::normal && base.has_normals() && (level == 0 || given_every_level);
+bool given_at_level(const Mesh& base, const SchemeRules& scheme, int level, bool given_every_level) {
+    return scheme.takes_given_normals && base.has_normals() && (level == 0 || given_every_level);
 }
 
 /// The scheme's normals at each corner of one level.
-std::vector<Vec3> scheme_normals(const Mesh& base, SchemeKind scheme, const LevelTopology& topo,
+std::vector<Vec3> scheme_normals(const Mesh& base, const SchemeRules& scheme, const LevelTopology& topo,
                                  const std::vector<Vec3>& positions,
                                  const std::vector<Triangle>& triangles, int level,
                                  bool given_every_level) {
@@ -57,13 +61,13 @@ std::vector<Vec3> scheme_normals(const Mesh& base, SchemeKind scheme, const Leve
 /// then the triangles rewritten (children 4t..4t+3, see uniform.h) and `topo`
 /// replaced by theirs (or reset where `child_topology` is false: the last
 /// level needs one only for creases' sectors and given normals).
-void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_every_level,
+void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool given_every_level,
                     std::vector<Vec3>& positions, std::vector<Triangle>& triangles,
                     LevelState& state, std::optional<LevelTopology>& topo_slot,
                     bool child_topology) {
     const LevelTopology& topo = *topo_slot;
     const std::vector<Vec3> normals =
-        scheme == SchemeKind::normal
+        scheme.edge_rule_reads_normals
             ? scheme_normals(base, scheme, topo, positions, triangles, level, given_every_level)
             : std::vector<Vec3>{};
 
@@ -73,9 +77,9 @@ void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_e
     VertexRing ring_a;
     VertexRing ring_b;
     for (std::size_t v = 0; v < old_count; ++v) {
-        if (scheme == SchemeKind::loop) {
+        if (scheme.moves_old_vertices()) {
             topo.fill_ring(static_cast<std::uint32_t>(v), positions, ring_a);
-            next[v] = loop_vertex_point(ring_a);
+            next[v] = scheme.vertex_rule(ring_a);
         } else {
             next[v] = positions[v];
         }
@@ -110,12 +114,12 @@ void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_e
         if (edge.curve) {
             curve_end(edge.a, edge.b, stencil.has_a_far, stencil.a_far, stencil.normal_a);
             curve_end(edge.b, edge.a, stencil.has_b_far, stencil.b_far, stencil.normal_b);
-        } else if (scheme == SchemeKind::normal) {
+        } else if (scheme.edge_rule_reads_normals) {
             // Both endpoints' normals in the sector of the edge's first triangle.
             stencil.normal_a = normals[3 * edge.face + edge.corner];
             stencil.normal_b = normals[3 * edge.face + (edge.corner + 1) % 3];
         }
-        if (scheme == SchemeKind::butterfly) {
+        if (scheme.edge_rule_reads_rings) {
             topo.fill_ring(edge.a, positions, ring_a);
             topo.fill_ring(edge.b, positions, ring_b);
             stencil.ring_a = &ring_a;
@@ -128,7 +132,7 @@ void subdivide_once(const Mesh& base, SchemeKind scheme, int level, bool given_e
             if (!topo.single_sector(edge.b))
                 detail::restrict_to_sector(ring_b, topo.ring_curve(edge.b), stencil.index_a_in_b);
         }
-        next[old_count + e] = edge_point(scheme, stencil);
+        next[old_count + e] = scheme.edge_rule(stencil);
     }
 
     // Topology: each triangle becomes four; a crease's halves stay creases.
@@ -206,8 +210,9 @@ SubdividedMesh subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels
     return detail::subdivide_uniform(mesh, scheme, levels, detail::k_given_normals_every_level);
 }
 
-SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels,
+SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind kind, int levels,
                                          bool given_every_level) {
+    const SchemeRules& scheme = rules_of(kind);
     SubdividedMesh out;
     out.levels = levels;
     out.positions = mesh.positions;
@@ -258,13 +263,14 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind scheme, in
 }
 
 void push_to_limit(SubdividedMesh& sub, SchemeKind scheme) {
-    if (scheme != SchemeKind::loop) return;
+    const SchemeRules& rules = rules_of(scheme);
+    if (!rules.draws_limit_points()) return;
     const LevelTopology topo(sub.positions, sub.triangles, sub.crease_masks);
     std::vector<Vec3> limit(sub.positions.size());
     VertexRing ring;
     for (std::uint32_t v = 0; v < sub.positions.size(); ++v) {
         topo.fill_ring(v, sub.positions, ring);
-        limit[v] = loop_limit_point(ring);
+        limit[v] = rules.drawn_point(ring);
     }
     sub.positions.swap(limit);
 }

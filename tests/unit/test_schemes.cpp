@@ -664,3 +664,37 @@ TEST_CASE("boundary rules: Loop (1,6,1)/8 and midpoints, Butterfly 4-point", "[s
     CHECK(butterfly.positions[grid_index(n, 0, 3)] == p(0, 3));
 }
 
+
+TEST_CASE("Loop's limit normal: the plane's normal for a flat ring, and the tangent masks at every valence",
+          "[schemes][loop]") {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), radius(0.3, 2.0);
+    for (std::size_t n = 3; n <= 24; ++n) {
+        INFO("valence " << n);
+        // A flat ring, counter-clockwise about a random plane normal, with
+        // uneven radii and angles: its limit normal is the plane's.
+        const Vec3 normal = glm::normalize(Vec3(unit(rng), unit(rng), unit(rng)));
+        const Vec3 u = glm::normalize(glm::cross(normal, Vec3(0.3, -0.5, 0.8)));
+        const Vec3 v = glm::cross(normal, u);
+        const Vec3 centre(unit(rng), unit(rng), unit(rng));
+        std::vector<Vec3> flat(n), bumpy(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            const double angle = 2.0 * k_pi * (static_cast<double>(k) + 0.2 * unit(rng)) / static_cast<double>(n);
+            flat[k] = centre + radius(rng) * (std::cos(angle) * u + std::sin(angle) * v);
+            bumpy[k] = flat[k] + 0.3 * unit(rng) * normal;
+        }
+        CHECK(glm::length(loop_limit_normal(flat.data(), n) - normal) < 1e-12);
+        // Off the plane: the masks cos(2 pi k / n), sin(2 pi k / n) summed
+        // here directly (Halstead, Kass and DeRose 1993).
+        Vec3 t1(0.0), t2(0.0);
+        for (std::size_t k = 0; k < n; ++k) {
+            const double a = 2.0 * k_pi * static_cast<double>(k) / static_cast<double>(n);
+            t1 += std::cos(a) * bumpy[k];
+            t2 += std::sin(a) * bumpy[k];
+        }
+        CHECK(glm::length(loop_limit_normal(bumpy.data(), n) - glm::normalize(glm::cross(t1, t2))) < 1e-12);
+    }
+    // Parallel tangents: zero, not NaN.
+    const std::vector<Vec3> line = {Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0), Vec3(4, 0, 0)};
+    CHECK(loop_limit_normal(line.data(), line.size()) == Vec3(0.0));
+}

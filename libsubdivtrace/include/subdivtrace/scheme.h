@@ -57,6 +57,12 @@ struct VertexRing {
 /// it is computed from.
 Vec3 loop_limit_point(const VertexRing& ring);
 
+/// Loop's limit normal at a vertex from its closed ring of n points in
+/// counter-clockwise order (Halstead, Kass and DeRose 1993: the tangent masks
+/// cos(2 pi k / n) and sin(2 pi k / n), centre weight 0); zero where the
+/// tangents are parallel.
+Vec3 loop_limit_normal(const Vec3* ring, std::size_t n);
+
 /// Loop's vertex rule: interior (1-a)p + a/n sum(q), a = (40 - (3 + 2cos(2pi/n))^2)/64;
 /// on a curve (boundary or crease) (q_0 + 6p + q_1)/8 with the curve
 /// neighbours; corners (irregular, or three or more curve edges) stay.

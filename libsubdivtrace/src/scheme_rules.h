@@ -1,0 +1,62 @@
+#pragma once
+// Each scheme as one small value: its rules, and what they read and do, as
+// properties the level code (patch.cpp, uniform.cpp, patch_records.cpp,
+// node_shell.cpp, root_records.cpp, tile.cpp) tests instead of naming
+// schemes. The stencils themselves are in scheme.cpp, their sources in
+// scheme.h and docs/schemes.md.
+
+#include <cstddef>
+
+#include "subdivtrace/scheme.h"
+
+namespace subdivtrace::detail {
+
+struct SchemeRules {
+    SchemeKind kind;
+    /// As scene files and the command line name it.
+    const char* name;
+    /// The vertex rule: an old vertex's next position from its ordered ring;
+    /// null where old vertices keep their positions (interpolating schemes).
+    Vec3 (*vertex_rule)(const VertexRing&);
+    /// The edge rule: an edge's new point from its stencil.
+    Vec3 (*edge_rule)(const EdgeStencil&);
+    /// The same rule off boundaries and creases where it reads nothing but
+    /// the endpoints and their normals in the edge's sector (the normal
+    /// scheme), so a patch need not fill a whole stencil; else null.
+    Vec3 (*smooth_edge_rule)(const Vec3& a, const Vec3& b, const Vec3& normal_a, const Vec3& normal_b);
+    /// Where a vertex is drawn, from its birth-level ring (its limit point);
+    /// null where the level's own position is drawn (it lies on the limit).
+    Vec3 (*drawn_point)(const VertexRing&);
+    /// The limit normal at a vertex from its closed regular ring of n points,
+    /// counter-clockwise (Loop's tangent masks): a leaf shades with it
+    /// instead of the next level's Gouraud normal. Null where the scheme has
+    /// no such mask.
+    Vec3 (*limit_normal)(const Vec3* ring, std::size_t n);
+    /// The edge rule reads both endpoints' normals in the edge's sector, so
+    /// a level has them before its edge points (the normal scheme).
+    bool edge_rule_reads_normals;
+    /// The edge rule reads the third vertices of the edge's two triangles.
+    bool edge_rule_reads_opposites;
+    /// The edge rule reads both endpoints' ordered rings, cut to the edge's
+    /// sector at a crease (Butterfly's wings and extraordinary stencils).
+    bool edge_rule_reads_rings;
+    /// Every rule is a convex combination of 1-ring points (Loop), so a
+    /// node's descendants lie in the hull of its corners' rings one level
+    /// down; otherwise the shells bound them by the displacement series.
+    bool convex_rules;
+    /// The mesh's own normals are this scheme's at level 0 (the normal scheme).
+    bool takes_given_normals;
+
+    bool moves_old_vertices() const { return vertex_rule != nullptr; }
+    bool draws_limit_points() const { return drawn_point != nullptr; }
+    /// Whether a level orders each vertex's ring (for the vertex rule, the
+    /// edge rule or the limit normals).
+    bool reads_ordered_rings() const {
+        return moves_old_vertices() || edge_rule_reads_rings || limit_normal != nullptr;
+    }
+};
+
+/// The rules of a scheme (static storage).
+const SchemeRules& rules_of(SchemeKind kind);
+
+}  // namespace subdivtrace::detail
