@@ -15,6 +15,7 @@ import argparse
 import math
 import os
 import re
+import shutil
 import subprocess
 import sys
 import time
@@ -1509,7 +1510,8 @@ def peak_rss_mb(ctx, name, scene, threads=2):
 
 def test_hundred_objects(ctx):
     """A hundred separate subdivision_mesh objects (each its own surface, read
-    from data/bunny_lowpoly.obj) close to the camera, under one scene budget
+    from its own copy of data/bunny_lowpoly.obj, since objects that read one
+    file share a surface) close to the camera, under one scene budget
     of 8 MB: the summary reports 100 surfaces and one cache within its budget,
     and peak RSS exceeds the same scene at max_level 0 (the same base meshes,
     no tiles) by no more than the budget plus a fixed allowance for the
@@ -1517,7 +1519,10 @@ def test_hundred_objects(ctx):
     allow 100 times as much. The picture does not depend on the budget."""
     if not os.path.exists(os.path.join(ctx.source_dir or "", "data", "bunny_lowpoly.obj")):
         raise Skip("no data/bunny_lowpoly.obj")
-    obj = os.path.join(ctx.source_dir, "data", "bunny_lowpoly.obj")
+    source = os.path.join(ctx.source_dir, "data", "bunny_lowpoly.obj")
+    copies = [ctx.path("hundred_bunny_%d.obj" % k) for k in range(100)]
+    for copy in copies:
+        shutil.copyfile(source, copy)
     header = ("#version 3.7;\nglobal_settings { assumed_gamma 1.0 subdivision_cache_mb %s }\n"
               "camera { location <0, 5, -4.5> look_at <0, 0, 0.2> angle 60 }\n"
               "light_source { <4, 8, -5> rgb 1 }\nbackground { rgb <0.15, 0.18, 0.25> }\n")
@@ -1525,7 +1530,7 @@ def test_hundred_objects(ctx):
     for k in range(100):
         x, z = -2.25 + 0.5 * (k % 10), -2.25 + 0.5 * (k // 10)
         objs.append('subdivision_mesh { file "%s" %%s pigment { rgb <%.2f, 0.6, %.2f> } '
-                    'rotate y*%d scale 0.45 translate <%g, 0, %g> }' % (obj, 0.3 + 0.007 * k, 0.9 - 0.006 * k, 37 * k, x, z))
+                    'rotate y*%d scale 0.45 translate <%g, 0, %g> }' % (copies[k], 0.3 + 0.007 * k, 0.9 - 0.006 * k, 37 * k, x, z))
     body = "\n".join(objs) + "\n"
     err0, _, rss0 = peak_rss_mb(ctx, "hundred_level0", header % 8 + body.replace("%s", "max_level 0"))
     err, small, rss = peak_rss_mb(ctx, "hundred_8mb", header % 8 + body.replace("%s", "max_level 6 tolerance 1"))
@@ -1550,6 +1555,44 @@ def test_hundred_objects(ctx):
     if small != large:
         raise Failure("8 MB and 256 MB budgets differ in %d pixels" % differing_pixels(small, large))
     print("  8 MB and 256 MB budgets: identical pictures")
+
+
+def test_objects_share_a_file_surface(ctx):
+    """Objects that read the same file with the same settings share one
+    surface, as copies of one declared object do: three bunnies from one
+    file and one from a copy of it are 2 surfaces, where four copies of the
+    file are 4, and both pictures are the same bit for bit (tiles do not
+    depend on the object's view or transformation). A different setting
+    makes a surface of its own."""
+    if not os.path.exists(os.path.join(ctx.source_dir or "", "data", "bunny_lowpoly.obj")):
+        raise Skip("no data/bunny_lowpoly.obj")
+    source = os.path.join(ctx.source_dir, "data", "bunny_lowpoly.obj")
+    files = [ctx.path("shared_bunny_%d.obj" % k) for k in range(4)]
+    for f in files:
+        shutil.copyfile(source, f)
+    header = ("#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n"
+              "camera { location <0, 3.5, -4> look_at <0, 0, 0> angle 50 }\n"
+              "light_source { <4, 8, -5> rgb 1 }\nbackground { rgb <0.15, 0.18, 0.25> }\n")
+
+    def scene(names, settings=("",) * 4):
+        return header + "".join(
+            'subdivision_mesh { file "%s" max_level 6 %s pigment { rgb <0.9, %.1f, 0.5> } '
+            'rotate y*%d translate <%g, 0, %g> }\n' % (names[k], settings[k], 0.3 + 0.2 * k, 70 * k,
+                                                     -1.2 + 2.4 * (k % 2), -0.8 + 1.6 * (k // 2))
+            for k in range(4))
+
+    _, err_shared, shared, _ = ctx.render("share_one_file", scene([files[0]] * 3 + [files[1]]), threads=2)
+    _, err_apart, apart, _ = ctx.render("share_four_files", scene(files), threads=2)
+    _, err_tol, _, _ = ctx.render("share_other_tolerance", scene([files[0]] * 4, ("",) * 3 + ("tolerance 2",)),
+                                  threads=2)
+    counts = [summary_cache(e)[0] for e in (err_shared, err_apart, err_tol)]
+    print("  surfaces: one file x3 + a copy %d, four copies %d, one file with another tolerance once %d"
+          % tuple(counts))
+    if counts != [2, 4, 2]:
+        raise Failure("surfaces %s, expected [2, 4, 2]" % counts)
+    if shared != apart:
+        raise Failure("shared and separate surfaces differ in %d pixels" % differing_pixels(shared, apart))
+    print("  shared and separate surfaces: identical pictures")
 
 
 def test_scene_cache_settings(ctx):
@@ -1615,6 +1658,7 @@ TESTS = {
     "cloth_uv_normal": test_cloth_uv_normal,
     "every_ray_kind": test_every_ray_kind,
     "hundred_objects": test_hundred_objects,
+    "objects_share_a_file_surface": test_objects_share_a_file_surface,
     "scene_cache_settings": test_scene_cache_settings,
 }
 for _name in BAD_CASES:

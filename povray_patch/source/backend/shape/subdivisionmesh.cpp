@@ -48,7 +48,14 @@
 #define SUBDIVTRACE_HAVE_MESH_IO 1
 #endif
 
+#include <sys/stat.h>
+
+#include <climits>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 
@@ -107,6 +114,41 @@ thread_local std::vector<subdivtrace::Hit> hit_scratch;
 subdivtrace::Vec3 to_vec3(const VECTOR v)
 {
 	return subdivtrace::Vec3(v[X], v[Y], v[Z]);
+}
+
+/// Surfaces read from files, shared by every subdivision_mesh of a scene
+/// that reads the same file with the same settings, as copies of one
+/// declared object share theirs: the mesh is read once, and the tiles one
+/// object's rays build serve the others' (tiles do not depend on the view
+/// or the object's transformation, so the pixels are those of separate
+/// surfaces). Weak references: a surface lives as long as the objects that
+/// use it.
+struct SharedFileSurface
+{
+	std::weak_ptr<subdivtrace::AdaptiveSurface> Surface;
+	std::weak_ptr<const SubdivisionMeshFaces> Faces;
+};
+std::mutex shared_files_mutex;
+std::map<std::string, SharedFileSurface> shared_files;
+
+/// What makes two file-based subdivision_mesh blocks the same surface: the
+/// file (canonical path, device, inode, size and modification time, so an
+/// edited file is read again) and every setting the surface holds, including
+/// the scene's cache. Empty when the file cannot be found (the reader then
+/// reports why).
+std::string Shared_File_Key(const SubdivisionMeshInput& input)
+{
+	char resolved[PATH_MAX];
+	struct stat st;
+	if (realpath(input.File.c_str(), resolved) == NULL || stat(resolved, &st) != 0)
+		return std::string();
+	char settings[512];
+	snprintf(settings, sizeof(settings), "\n%llu %llu %lld %lld.%09ld\n%s %s %a %d %d %a %p",
+	         (unsigned long long)st.st_dev, (unsigned long long)st.st_ino, (long long)st.st_size,
+	         (long long)st.st_mtim.tv_sec, (long)st.st_mtim.tv_nsec, input.Scheme.c_str(),
+	         input.Refine.c_str(), (double)input.Tolerance, input.MaxLevel, (int)input.Weld,
+	         (double)input.WeldTolerance, (const void *)input.Cache.get());
+	return std::string(resolved) + settings;
 }
 
 void add_counters(TraceThreadData *Thread, const subdivtrace::TraceCounters& c)
@@ -386,6 +428,25 @@ void SubdivisionMesh::Set_Cache_Budget(const std::shared_ptr<subdivtrace::TileCa
 
 std::string SubdivisionMesh::Build(SubdivisionMeshInput& input, std::vector<std::string>& warnings)
 {
+	const std::string shared_key = input.File.empty() ? std::string() : Shared_File_Key(input);
+	if (!shared_key.empty())
+	{
+		std::lock_guard<std::mutex> lock(shared_files_mutex);
+		std::map<std::string, SharedFileSurface>::iterator it = shared_files.find(shared_key);
+		if (it != shared_files.end())
+		{
+			surface = it->second.Surface.lock();
+			faces = it->second.Faces.lock();
+			if (!surface || !faces)
+			{
+				surface.reset();
+				faces.reset();
+			}
+		}
+	}
+	if (surface)
+		return Finish_Build(input);
+
 	std::shared_ptr<SubdivisionMeshFaces> data = std::make_shared<SubdivisionMeshFaces>();
 
 	try
@@ -455,6 +516,25 @@ std::string SubdivisionMesh::Build(SubdivisionMeshInput& input, std::vector<std:
 	}
 	faces = data;
 
+	if (!shared_key.empty())
+	{
+		std::lock_guard<std::mutex> lock(shared_files_mutex);
+		for (std::map<std::string, SharedFileSurface>::iterator it = shared_files.begin(); it != shared_files.end(); )
+		{
+			if (it->second.Surface.expired())
+				shared_files.erase(it++);
+			else
+				++it;
+		}
+		SharedFileSurface& entry = shared_files[shared_key];
+		entry.Surface = surface;
+		entry.Faces = faces;
+	}
+	return Finish_Build(input);
+}
+
+std::string SubdivisionMesh::Finish_Build(SubdivisionMeshInput& input)
+{
 	// Like mesh2, a mesh with an inside_vector is a solid whose inside is the
 	// parity of crossings along that vector. Without one, a closed mesh is a
 	// solid (the library's parity test) and an open mesh is a patch.

@@ -207,6 +207,10 @@ class SubdivisionMesh : public ObjectBase
 		bool HasInsideVector;
 
 		void Make_View(subdivtrace::View& view) const;
+		/// Build's second half, once the surface and faces are set (read, or
+		/// shared with an object that reads the same file): the inside test,
+		/// the patch flag and the textures.
+		std::string Finish_Build(SubdivisionMeshInput& input);
 };
 
 }
