@@ -1,6 +1,11 @@
 // Twenty separate subdivision_mesh objects (issue 16's scene-budget table):
-// data/bunny_lowpoly.obj (2,996 triangles) twenty times, each its own
-// surface (no copies), each about 1/8 of the frame's width, in a 5 x 4 grid.
+// data/bunny_lowpoly.obj (2,996 triangles) twenty times, each about 1/8 of
+// the frame's width, in a 5 x 4 grid. They read one file with the same
+// settings, so they share one surface as copies would (docs/povray.md,
+// "Memory"). Declare Separate=1 to make them twenty surfaces, as twenty
+// different meshes would be: each object's tolerance then differs from the
+// next by a relative 1e-12, which changes no refinement visibly but makes
+// the settings differ.
 // Render from the project root:
 //   povray +Iscenes/twenty_bunnies.pov +W640 +H480 -D +WT2 +L<pov include dir>
 // Declare Budget=M on the command line to set subdivision_cache_mb, and
@@ -30,7 +35,8 @@ plane { y, -1.2 pigment { checker rgb 0.8 rgb 0.5 scale 2 } }
   #ifdef (Mesh2)
     object { Bunny_L3 texture { Look } rotate y * (25 * K) translate Place }
   #else
-    subdivision_mesh { file "data/bunny_lowpoly.obj" max_level 8 tolerance Tolerance
+    #ifdef (Separate) #declare Own = Tolerance * (1 + 1e-12 * K); #else #declare Own = Tolerance; #end
+    subdivision_mesh { file "data/bunny_lowpoly.obj" max_level 8 tolerance Own
                        texture { Look } rotate y * (25 * K) translate Place }
   #end
   #declare K = K + 1;
