@@ -53,20 +53,32 @@ public:
     template <class Visit>
     void traverse(const RayBoxQuery& query, const double& t_max, Visit visit) const {
         if (nodes_.empty()) return;
-        std::uint32_t stack[256];  // SAH trees over 1e9 items stay far below this depth
+        // Each node's box is tested once, by its parent (which orders the two
+        // children by it); the stack keeps where the ray enters it, so a node
+        // popped after a closer hit lowered t_max is dropped by one
+        // comparison. That is the box test's own verdict: t_max only shrinks,
+        // and the test fails exactly when the entry lies beyond it.
+        struct Pending {
+            std::uint32_t node;
+            double t_entry;
+        };
+        Pending stack[256];  // SAH trees over 1e9 items stay far below this depth
         int top = 0;
-        stack[top++] = 0;
+        RayBoxQuery q = query;
+        q.t_max = t_max;
+        double t_root = 0.0;
+        if (!ray_hits_box(q, root().box_lo(origin_), root().box_hi(origin_), t_root)) return;
+        stack[top++] = {0, t_root};
         while (top > 0) {
-            const BvhNode& node = nodes_[stack[--top]];
-            RayBoxQuery q = query;
-            q.t_max = t_max;
-            double t_entry = 0.0;
-            if (!ray_hits_box(q, node.box_lo(origin_), node.box_hi(origin_), t_entry)) continue;
+            const Pending pending = stack[--top];
+            if (pending.t_entry > t_max) continue;
+            const BvhNode& node = nodes_[pending.node];
             if (node.count > 0) {
                 for (std::uint32_t k = 0; k < node.count; ++k) visit(items_[node.first + k]);
                 continue;
             }
             // Near child last on the stack, so it is visited first.
+            q.t_max = t_max;
             const BvhNode& left = nodes_[node.first];
             const BvhNode& right = nodes_[node.first + 1];
             double tl = 0.0, tr = 0.0;
@@ -74,16 +86,16 @@ public:
             const bool hr = ray_hits_box(q, right.box_lo(origin_), right.box_hi(origin_), tr);
             if (hl && hr) {
                 if (tl <= tr) {
-                    stack[top++] = node.first + 1;
-                    stack[top++] = node.first;
+                    stack[top++] = {node.first + 1, tr};
+                    stack[top++] = {node.first, tl};
                 } else {
-                    stack[top++] = node.first;
-                    stack[top++] = node.first + 1;
+                    stack[top++] = {node.first, tl};
+                    stack[top++] = {node.first + 1, tr};
                 }
             } else if (hl) {
-                stack[top++] = node.first;
+                stack[top++] = {node.first, tl};
             } else if (hr) {
-                stack[top++] = node.first + 1;
+                stack[top++] = {node.first + 1, tr};
             }
         }
     }
