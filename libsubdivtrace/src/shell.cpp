@@ -33,37 +33,10 @@ RayBoxQuery make_ray_box_query(const Vec3& origin, const Vec3& dir, double t_min
     return q;
 }
 
-namespace {
-
-bool box_interval(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, double& t_near,
-                  double& t_far) {
-    t_near = q.t_min;
-    t_far = q.t_max;
-    for (int a = 0; a < 3; ++a) {
-        double t0 = (lo[a] - q.origin[a]) * q.inv_dir[a];
-        double t1 = (hi[a] - q.origin[a]) * q.inv_dir[a];
-        if (t0 > t1) std::swap(t0, t1);
-        t1 *= 1.0 + 2.0 * gamma_bound(3);
-        // Written so that a NaN (0 * inf on a face the ray lies in) leaves the
-        // interval unchanged instead of rejecting the ray.
-        t_near = t0 > t_near ? t0 : t_near;
-        t_far = t1 < t_far ? t1 : t_far;
-        if (t_near > t_far) return false;
-    }
-    return true;
-}
-
-}  // namespace
-
-bool ray_hits_box(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, double& t_entry) {
-    double t_far = 0.0;
-    return box_interval(q, lo, hi, t_entry, t_far);
-}
-
 bool ray_hits_shell(const RayBoxQuery& q, const Shell& shell, ShellKind kind, double& t_entry) {
     double t_near = 0.0;
     double t_far = 0.0;
-    if (!box_interval(q, shell.lo, shell.hi, t_near, t_far)) return false;
+    if (!ray_box_interval(q, shell.lo, shell.hi, t_near, t_far)) return false;
     if (kind == ShellKind::aabb_slab && shell.axis != Vec3(0.0)) {
         const double denom = glm::dot(shell.axis, q.dir);
         const double num = glm::dot(shell.axis, q.origin);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -73,8 +74,32 @@ RayBoxQuery make_ray_box_query(const Vec3& origin, const Vec3& dir, double t_min
 
 /// Conservative slab test (Ize 2013: the far distance is scaled by
 /// 1 + 2 gamma(3), so rounding never drops a ray that grazes a flat box); NaN
-/// never counts as a hit. On a hit, t_entry is where the ray enters the volume.
-bool ray_hits_box(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, double& t_entry);
+/// never counts as a hit. On a hit, [t_near, t_far] is the part of
+/// [q.t_min, q.t_max] inside the box. Inline: the BVH's traversal calls it
+/// for every node it meets.
+inline bool ray_box_interval(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, double& t_near,
+                             double& t_far) {
+    t_near = q.t_min;
+    t_far = q.t_max;
+    for (int a = 0; a < 3; ++a) {
+        double t0 = (lo[a] - q.origin[a]) * q.inv_dir[a];
+        double t1 = (hi[a] - q.origin[a]) * q.inv_dir[a];
+        if (t0 > t1) std::swap(t0, t1);
+        t1 *= 1.0 + 2.0 * gamma_bound(3);
+        // Written so that a NaN (0 * inf on a face the ray lies in) leaves the
+        // interval unchanged instead of rejecting the ray.
+        t_near = t0 > t_near ? t0 : t_near;
+        t_far = t1 < t_far ? t1 : t_far;
+        if (t_near > t_far) return false;
+    }
+    return true;
+}
+
+/// ray_box_interval's test; on a hit, t_entry is where the ray enters the volume.
+inline bool ray_hits_box(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, double& t_entry) {
+    double t_far = 0.0;
+    return ray_box_interval(q, lo, hi, t_entry, t_far);
+}
 
 /// Box and (if present) slab, with the same conservative rounding.
 bool ray_hits_shell(const RayBoxQuery& q, const Shell& shell, ShellKind kind, double& t_entry);
