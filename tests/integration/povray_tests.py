@@ -1508,6 +1508,19 @@ def peak_rss_mb(ctx, name, scene, threads=2):
     return err, read_ppm(out), rss
 
 
+def bunny_copies(ctx, prefix, count):
+    """Paths of `count` copies of data/bunny_lowpoly.obj in the work
+    directory: distinct files, so each object that reads one is its own
+    surface (objects that read one file share a surface)."""
+    source = os.path.join(ctx.source_dir or "", "data", "bunny_lowpoly.obj")
+    if not os.path.exists(source):
+        raise Skip("no data/bunny_lowpoly.obj")
+    copies = [ctx.path("%s_%d.obj" % (prefix, k)) for k in range(count)]
+    for copy in copies:
+        shutil.copyfile(source, copy)
+    return copies
+
+
 def test_hundred_objects(ctx):
     """A hundred separate subdivision_mesh objects (each its own surface, read
     from its own copy of data/bunny_lowpoly.obj, since objects that read one
@@ -1517,12 +1530,7 @@ def test_hundred_objects(ctx):
     no tiles) by no more than the budget plus a fixed allowance for the
     threads' fronts and allocator slack, whereas 100 per-object budgets would
     allow 100 times as much. The picture does not depend on the budget."""
-    if not os.path.exists(os.path.join(ctx.source_dir or "", "data", "bunny_lowpoly.obj")):
-        raise Skip("no data/bunny_lowpoly.obj")
-    source = os.path.join(ctx.source_dir, "data", "bunny_lowpoly.obj")
-    copies = [ctx.path("hundred_bunny_%d.obj" % k) for k in range(100)]
-    for copy in copies:
-        shutil.copyfile(source, copy)
+    copies = bunny_copies(ctx, "hundred_bunny", 100)
     header = ("#version 3.7;\nglobal_settings { assumed_gamma 1.0 subdivision_cache_mb %s }\n"
               "camera { location <0, 5, -4.5> look_at <0, 0, 0.2> angle 60 }\n"
               "light_source { <4, 8, -5> rgb 1 }\nbackground { rgb <0.15, 0.18, 0.25> }\n")
@@ -1564,12 +1572,7 @@ def test_objects_share_a_file_surface(ctx):
     file are 4, and both pictures are the same bit for bit (tiles do not
     depend on the object's view or transformation). A different setting
     makes a surface of its own."""
-    if not os.path.exists(os.path.join(ctx.source_dir or "", "data", "bunny_lowpoly.obj")):
-        raise Skip("no data/bunny_lowpoly.obj")
-    source = os.path.join(ctx.source_dir, "data", "bunny_lowpoly.obj")
-    files = [ctx.path("shared_bunny_%d.obj" % k) for k in range(4)]
-    for f in files:
-        shutil.copyfile(source, f)
+    files = bunny_copies(ctx, "shared_bunny", 4)
     header = ("#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n"
               "camera { location <0, 3.5, -4> look_at <0, 0, 0> angle 50 }\n"
               "light_source { <4, 8, -5> rgb 1 }\nbackground { rgb <0.15, 0.18, 0.25> }\n")
