@@ -1571,7 +1571,8 @@ def test_objects_share_a_file_surface(ctx):
     file and one from a copy of it are 2 surfaces, where four copies of the
     file are 4, and both pictures are the same bit for bit (tiles do not
     depend on the object's view or transformation). A different setting
-    makes a surface of its own."""
+    makes a surface of its own. The same holds for the same arrays (a
+    declared mesh2 given twice, an inline mesh2 written twice)."""
     files = bunny_copies(ctx, "shared_bunny", 4)
     header = ("#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n"
               "camera { location <0, 3.5, -4> look_at <0, 0, 0> angle 50 }\n"
@@ -1596,6 +1597,23 @@ def test_objects_share_a_file_surface(ctx):
     if shared != apart:
         raise Failure("shared and separate surfaces differ in %d pixels" % differing_pixels(shared, apart))
     print("  shared and separate surfaces: identical pictures")
+
+    # The same arrays: a declared mesh2 given twice, and an inline mesh2
+    # written twice, are one surface each (a declared mesh reaches the
+    # library in POV-Ray's single precision, so it is not the inline one);
+    # an inline mesh2 with one vertex moved is its own.
+    verts, faces, _, _ = icosahedron()
+    moved = [tuple(c * 1.1 for c in verts[0])] + verts[1:]
+    body, body_moved = mesh2_body(verts, faces), mesh2_body(moved, faces)
+    scene_arrays = (SCENE_HEADER + "#declare M = mesh2 { %s }\n" % body + "".join(
+        "subdivision_mesh { %s max_level 4 pigment { rgb 1 } translate <%g, %g, 0> }\n" % (mesh, x, y)
+        for mesh, x, y in (("M", -2.4, 1.2), ("M", 0, 1.2), ("mesh2 { %s }" % body, 2.4, 1.2),
+                           ("mesh2 { %s }" % body, -1.2, -1.2), ("mesh2 { %s }" % body_moved, 1.2, -1.2))))
+    _, err_arrays, _, _ = ctx.render("share_arrays", scene_arrays, threads=2)
+    count = summary_cache(err_arrays)[0]
+    print("  surfaces: a declared mesh2 twice, an inline mesh2 twice, another once: %d" % count)
+    if count != 3:
+        raise Failure("surfaces %d, expected 3" % count)
 
 
 def test_scene_cache_settings(ctx):

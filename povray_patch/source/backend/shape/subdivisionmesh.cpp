@@ -54,6 +54,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <mutex>
 #include <set>
@@ -116,39 +117,93 @@ subdivtrace::Vec3 to_vec3(const VECTOR v)
 	return subdivtrace::Vec3(v[X], v[Y], v[Z]);
 }
 
-/// Surfaces read from files, shared by every subdivision_mesh of a scene
-/// that reads the same file with the same settings, as copies of one
-/// declared object share theirs: the mesh is read once, and the tiles one
+/// Surfaces shared by every subdivision_mesh of a scene that gives the same
+/// mesh (the same file, or the same arrays: a declared mesh or an inline
+/// mesh2 written more than once) with the same settings, as copies of one
+/// declared object share theirs: the mesh is built once, and the tiles one
 /// object's rays build serve the others' (tiles do not depend on the view
 /// or the object's transformation, so the pixels are those of separate
 /// surfaces). Weak references: a surface lives as long as the objects that
 /// use it.
-struct SharedFileSurface
+struct SharedSurface
 {
 	std::weak_ptr<subdivtrace::AdaptiveSurface> Surface;
 	std::weak_ptr<const SubdivisionMeshFaces> Faces;
 };
-std::mutex shared_files_mutex;
-std::map<std::string, SharedFileSurface> shared_files;
+std::mutex shared_surfaces_mutex;
+std::map<std::string, SharedSurface> shared_surfaces;
 
-/// What makes two file-based subdivision_mesh blocks the same surface: the
-/// file (canonical path, device, inode, size and modification time, so an
-/// edited file is read again) and every setting the surface holds, including
-/// the scene's cache. Empty when the file cannot be found (the reader then
-/// reports why).
-std::string Shared_File_Key(const SubdivisionMeshInput& input)
+/// Two 64-bit hashes of a sequence of words, with different multipliers,
+/// so that two different meshes share a key with a chance of about 2^-128.
+struct ContentHash
 {
-	char resolved[PATH_MAX];
-	struct stat st;
-	if (realpath(input.File.c_str(), resolved) == NULL || stat(resolved, &st) != 0)
+	uint64_t A, B;
+	ContentHash() : A(0x9e3779b97f4a7c15ULL), B(0xc2b2ae3d27d4eb4fULL) { }
+	void Word(uint64_t w)
+	{
+		A = (A ^ w) * 0x100000001b3ULL;
+		A ^= A >> 29;
+		B = (B ^ (w + 0x632be59bd9b4e019ULL)) * 0xff51afd7ed558ccdULL;
+		B ^= B >> 32;
+	}
+	template <class T>
+	void Array(const std::vector<T>& v)
+	{
+		Word(v.size());
+		const unsigned char *bytes = reinterpret_cast<const unsigned char *>(v.data());
+		const size_t n = v.size() * sizeof(T);
+		size_t k = 0;
+		for (; k + 8 <= n; k += 8)
+		{
+			uint64_t w;
+			memcpy(&w, bytes + k, 8);
+			Word(w);
+		}
+		uint64_t tail = 0;
+		memcpy(&tail, bytes + k, n - k);
+		Word(tail);
+	}
+};
+
+/// What makes two subdivision_mesh blocks the same surface: the mesh (a
+/// file's canonical path, device, inode, size and modification time, so an
+/// edited file is read again; or the hashes of the arrays and per-face
+/// texture indices) and every setting the surface holds, including the
+/// scene's cache. Empty when a file cannot be found (the reader then
+/// reports why) or there is no mesh.
+std::string Shared_Surface_Key(const SubdivisionMeshInput& input)
+{
+	char settings[256];
+	snprintf(settings, sizeof(settings), "\n%s %s %a %d %d %a %p", input.Scheme.c_str(), input.Refine.c_str(),
+	         (double)input.Tolerance, input.MaxLevel, (int)input.Weld, (double)input.WeldTolerance,
+	         (const void *)input.Cache.get());
+	char mesh[PATH_MAX + 128];
+	if (!input.File.empty())
+	{
+		char resolved[PATH_MAX];
+		struct stat st;
+		if (realpath(input.File.c_str(), resolved) == NULL || stat(resolved, &st) != 0)
+			return std::string();
+		snprintf(mesh, sizeof(mesh), "file %s\n%llu %llu %lld %lld.%09ld", resolved,
+		         (unsigned long long)st.st_dev, (unsigned long long)st.st_ino, (long long)st.st_size,
+		         (long long)st.st_mtim.tv_sec, (long)st.st_mtim.tv_nsec);
+	}
+	else if (input.Arrays)
+	{
+		const subdivtrace::MeshArrays& a = *input.Arrays;
+		ContentHash h;
+		h.Array(a.positions);
+		h.Array(a.normals);
+		h.Array(a.uvs);
+		h.Array(a.face_indices);
+		h.Array(a.normal_indices);
+		h.Array(a.uv_indices);
+		h.Array(input.FaceTextures);
+		snprintf(mesh, sizeof(mesh), "arrays %016llx%016llx", (unsigned long long)h.A, (unsigned long long)h.B);
+	}
+	else
 		return std::string();
-	char settings[512];
-	snprintf(settings, sizeof(settings), "\n%llu %llu %lld %lld.%09ld\n%s %s %a %d %d %a %p",
-	         (unsigned long long)st.st_dev, (unsigned long long)st.st_ino, (long long)st.st_size,
-	         (long long)st.st_mtim.tv_sec, (long)st.st_mtim.tv_nsec, input.Scheme.c_str(),
-	         input.Refine.c_str(), (double)input.Tolerance, input.MaxLevel, (int)input.Weld,
-	         (double)input.WeldTolerance, (const void *)input.Cache.get());
-	return std::string(resolved) + settings;
+	return std::string(mesh) + settings;
 }
 
 void add_counters(TraceThreadData *Thread, const subdivtrace::TraceCounters& c)
@@ -428,12 +483,12 @@ void SubdivisionMesh::Set_Cache_Budget(const std::shared_ptr<subdivtrace::TileCa
 
 std::string SubdivisionMesh::Build(SubdivisionMeshInput& input, std::vector<std::string>& warnings)
 {
-	const std::string shared_key = input.File.empty() ? std::string() : Shared_File_Key(input);
+	const std::string shared_key = Shared_Surface_Key(input);
 	if (!shared_key.empty())
 	{
-		std::lock_guard<std::mutex> lock(shared_files_mutex);
-		std::map<std::string, SharedFileSurface>::iterator it = shared_files.find(shared_key);
-		if (it != shared_files.end())
+		std::lock_guard<std::mutex> lock(shared_surfaces_mutex);
+		std::map<std::string, SharedSurface>::iterator it = shared_surfaces.find(shared_key);
+		if (it != shared_surfaces.end())
 		{
 			surface = it->second.Surface.lock();
 			faces = it->second.Faces.lock();
@@ -445,7 +500,10 @@ std::string SubdivisionMesh::Build(SubdivisionMeshInput& input, std::vector<std:
 		}
 	}
 	if (surface)
+	{
+		input.Arrays.reset();
 		return Finish_Build(input);
+	}
 
 	std::shared_ptr<SubdivisionMeshFaces> data = std::make_shared<SubdivisionMeshFaces>();
 
@@ -518,15 +576,15 @@ std::string SubdivisionMesh::Build(SubdivisionMeshInput& input, std::vector<std:
 
 	if (!shared_key.empty())
 	{
-		std::lock_guard<std::mutex> lock(shared_files_mutex);
-		for (std::map<std::string, SharedFileSurface>::iterator it = shared_files.begin(); it != shared_files.end(); )
+		std::lock_guard<std::mutex> lock(shared_surfaces_mutex);
+		for (std::map<std::string, SharedSurface>::iterator it = shared_surfaces.begin(); it != shared_surfaces.end(); )
 		{
 			if (it->second.Surface.expired())
-				shared_files.erase(it++);
+				shared_surfaces.erase(it++);
 			else
 				++it;
 		}
-		SharedFileSurface& entry = shared_files[shared_key];
+		SharedSurface& entry = shared_surfaces[shared_key];
 		entry.Surface = surface;
 		entry.Faces = faces;
 	}
