@@ -28,9 +28,6 @@ enum class SchemeKind {
 std::optional<SchemeKind> parse_scheme(const std::string& name);
 const char* scheme_name(SchemeKind kind);
 
-/// True for schemes whose old vertices keep their positions.
-inline bool is_interpolating(SchemeKind kind) { return kind != SchemeKind::loop; }
-
 /// The ordered 1-ring of a vertex at some level: neighbours counter-clockwise
 /// (seen from the side the triangles' winding makes "outside").
 /// - closed: the fan goes all the way round (interior manifold vertex);
