@@ -160,7 +160,8 @@ struct ContentHash
 			Word(w);
 		}
 		uint64_t tail = 0;
-		memcpy(&tail, bytes + k, n - k);
+		if (n > k)
+			memcpy(&tail, bytes + k, n - k);
 		Word(tail);
 	}
 };
