@@ -142,8 +142,13 @@ Vec3 loop_limit_point(const VertexRing& ring) {
 
 namespace {
 
-/// cos and sin of 2 pi k / n, k < n: common valences from a table, since
-/// every vertex of every level a leaf shades at asks for its own.
+/// The angle of ring point k of n in Loop's tangent masks.
+double tangent_mask_angle(std::size_t k, std::size_t n) {
+    return 2.0 * k_pi * static_cast<double>(k) / static_cast<double>(n);
+}
+
+/// cos and sin of tangent_mask_angle(k, n), k < n: common valences from a
+/// table, since every vertex of every level a leaf shades at asks for its own.
 struct TangentMasks {
     std::array<double, 16> cos{}, sin{};
 };
@@ -151,9 +156,8 @@ struct TangentMasks {
 TangentMasks tangent_masks_of(std::size_t n) {
     TangentMasks m;
     for (std::size_t k = 0; k < n && k < m.cos.size(); ++k) {
-        const double a = 2.0 * k_pi * static_cast<double>(k) / static_cast<double>(n);
-        m.cos[k] = std::cos(a);
-        m.sin[k] = std::sin(a);
+        m.cos[k] = std::cos(tangent_mask_angle(k, n));
+        m.sin[k] = std::sin(tangent_mask_angle(k, n));
     }
     return m;
 }
@@ -173,9 +177,8 @@ Vec3 loop_limit_normal(const Vec3* ring, std::size_t n) {
             c = table[n].cos[k];
             s = table[n].sin[k];
         } else {
-            const double a = 2.0 * k_pi * static_cast<double>(k) / static_cast<double>(n);
-            c = std::cos(a);
-            s = std::sin(a);
+            c = std::cos(tangent_mask_angle(k, n));
+            s = std::sin(tangent_mask_angle(k, n));
         }
         t1 += c * ring[k];
         t2 += s * ring[k];
