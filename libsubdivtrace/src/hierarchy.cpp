@@ -156,7 +156,7 @@ public:
     HierarchyImpl(const Mesh& mesh, SchemeKind scheme, int max_level,
                   std::shared_ptr<TileCache> shared_cache, ShellKind shell_kind)
         : topo(mesh),
-          context{topo, detail::rules_of(scheme), shell_kind, max_level, &nodes_built, &tile_build_ns, nullptr, {}},
+          context{topo, detail::rules_of(scheme), shell_kind, max_level, &nodes_built, &tile_build_ns, nullptr, {}, {}},
           roots(context),
           cache(std::move(shared_cache)),
           tiles(cache->impl()) {
@@ -167,6 +167,10 @@ public:
             tiles.recharge(
                 detail::TileKey{id, root}, [&](const std::shared_ptr<const CachedTile>& v) { return &v->tile == &t; },
                 before, after);
+        };
+        context.parent_tile = [this](const NodeId& root) {
+            std::shared_ptr<const CachedTile> parent = tile(detail::parent_tile_root(root));
+            return std::shared_ptr<const detail::Tile>(parent, &parent->tile);
         };
         tiles.surfaces.fetch_add(1, std::memory_order_relaxed);
     }

@@ -216,19 +216,16 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     // A group of one is that band already, in the same order: taken whole.
     if (needs_frontier(1)) {
         if (group.tiles_ == 1) {
-            frontier_ = std::move(q);
-            frontier_.drop_derived();
+            frontier_ = std::make_unique<Patch>(std::move(q));
+            frontier_->drop_derived();
         } else {
-            frontier_ = Patch::copy_of(q, q.band_around(tile_tris));
+            frontier_ = std::make_unique<Patch>(Patch::copy_of(q, q.band_around(tile_tris)));
         }
     }
     ready_.store(1, std::memory_order_release);
 }
 
-bool Tile::needs_frontier(int j) const {
-    // A deeper level of this tile, or child tiles below its deepest one.
-    return j < depth_ || root_.level + depth_ < ctx_->max_level;
-}
+bool Tile::needs_frontier(int j) const { return j == depth_ && root_.level + depth_ < ctx_->max_level; }
 
 bool Tile::in_tile(const NodeId& id) const {
     return id.face == root_.face && id.level > root_.level && ancestor_at(id, root_.level) == root_;
@@ -238,6 +235,7 @@ Patch Tile::split_band(Patch& q) const {
     // Its positions are recomputed here from scratch, as only a tile that
     // goes deeper pays for that level's topology.
     q.finish(ctx_->topo, ctx_->scheme);
+    if (q.level == 0 && ctx_->roots) ctx_->roots->lend_normals(q);
     Flags kept;
     Patch next = q.subdivide_band(ctx_->topo, ctx_->scheme, [&](const NodeId& id) { return in_tile(id); }, kept);
     q.give_back_derived();  // its arrays serve the next patch this thread finishes
@@ -245,14 +243,29 @@ Patch Tile::split_band(Patch& q) const {
     return next;
 }
 
-void Tile::build_level(int j) {
-    // frontier_ is level root.level + j - 1 (its records built; level 1
-    // comes from the tile's group): split it first. Then it is level
-    // root.level + j, cut to the tile's triangles and their border; the
-    // records of that level read the next level's points around them,
-    // computed here and dropped after.
-    frontier_ = split_band(frontier_);
-    Patch& q = frontier_;
+Patch Tile::band_at(int j) const {
+    // The same triangles and bits as the group's first level and the splits
+    // after it (patch.h: every value comes from canonically ordered inputs,
+    // and a border two rings wide suffices).
+    Patch q;
+    if (root_.level == 0) {
+        q = base_patch(ctx_->topo, &root_.face, 1);
+    } else {
+        if (!ctx_->parent_tile)
+            throw std::logic_error("subdivtrace tile: a child tile's later levels need its parent (TileContext::parent_tile)");
+        q = ctx_->parent_tile(root_)->band_of_child(root_);
+    }
+    const BuildTimer timer(ctx_->build_ns);
+    for (int k = 1; k <= j; ++k) q = split_band(q);
+    return q;
+}
+
+void Tile::build_level(int j, Patch& q) {
+    // q is level root.level + j - 1 with its border: split it first. Then
+    // it is level root.level + j, cut to the tile's triangles and their
+    // border; the records of that level read the next level's points around
+    // them, computed here and dropped after.
+    q = split_band(q);
     // The next level's points and the shading memo live until the level is
     // filled: this thread's scratch, so their blocks are reused.
     thread_local Patch next;
@@ -265,9 +278,6 @@ void Tile::build_level(int j) {
     thread_local ShadingMemo memo;
     memo.reset(q);
     fill_level(j, q, next, memo, tile_tris);
-    // Waits, without rings and edges, for the next level or child tiles.
-    if (needs_frontier(j)) q.drop_derived();
-    else frontier_ = Patch();
     ready_.store(j, std::memory_order_release);
 }
 
@@ -378,23 +388,41 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
 
 void Tile::ensure_level(int j) const {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (ready_.load(std::memory_order_relaxed) >= j) return;  // another thread built it
+    const int built = ready_.load(std::memory_order_relaxed);
+    if (built >= j) return;  // another thread built it
     const std::size_t before = bytes_held();
+    Patch q = band_at(built);  // times itself: the parent's builds time their own
     {
         const BuildTimer timer(ctx_->build_ns);
         auto* self = const_cast<Tile*>(this);
-        for (int k = ready_.load(std::memory_order_relaxed) + 1; k <= j; ++k) self->build_level(k);
+        for (int k = built + 1; k <= j; ++k) self->build_level(k, q);
+        if (needs_frontier(j)) {
+            // Waits, without rings and edges, for child tiles.
+            q.drop_derived();
+            self->frontier_ = std::make_unique<Patch>(std::move(q));
+        } else {
+            q.give_back_derived();  // its arrays serve the next patch this thread finishes
+        }
     }
     if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
 }
 
 Patch Tile::below_deepest() const {
     ensure_level(depth_);
+    if (!frontier_) throw std::logic_error("subdivtrace tile: below_deepest asked of a tile at max_level");
     const BuildTimer timer(ctx_->build_ns);
-    Patch q = frontier_;
+    Patch q = *frontier_;
     Patch below = split_band(q);
     below.build_incidence();  // each child tile cuts its band through them
     return below;
+}
+
+Patch Tile::band_of_child(const NodeId& child_root) const {
+    ensure_level(depth_);
+    if (child_root.level != root_.level + depth_ || !in_tile(child_root) || !frontier_)
+        throw std::logic_error("subdivtrace tile: band_of_child asked for a node that is not a child tile's root");
+    const BuildTimer timer(ctx_->build_ns);
+    return Patch::copy_of(*frontier_, frontier_->band([&](const NodeId& id) { return id == child_root; }));
 }
 
 namespace {
@@ -412,7 +440,8 @@ std::size_t held(const std::vector<T>& v) {
 }  // namespace
 
 std::size_t Tile::bytes_held() const {
-    std::size_t bytes = sizeof(Tile) + held(levels_) + frontier_.owned_bytes();
+    std::size_t bytes = sizeof(Tile) + held(levels_);
+    if (frontier_) bytes += sizeof(Patch) + frontier_->owned_bytes();
     for (const TileLevel& l : levels_) {
         bytes += held(l.points) + held(l.draw) + held(l.shells);
     }

@@ -47,6 +47,11 @@ struct TileContext {
     /// child tiles start from), with its bytes_held() before and after, so
     /// the cache charges what tiles hold rather than what they might.
     std::function<void(const Tile& tile, const NodeId& root, std::size_t before, std::size_t after)> resized;
+    /// The tile whose deepest level holds tile root `root` (level >= 1),
+    /// kept alive by the pointer: a tile builds its later levels from the
+    /// parent's band around its root (Tile::band_of_child) instead of keeping
+    /// its own band between levels.
+    std::function<std::shared_ptr<const Tile>(const NodeId& root)> parent_tile;
 };
 
 /// The first level of a group of tiles, computed once for all of them: the
@@ -153,14 +158,28 @@ public:
     /// tile whose deepest level is above max_level.
     Patch below_deepest() const;
 
+    /// The triangle `child_root` of its deepest level with its border (not
+    /// finished): where the child tile rooted there derives its own levels
+    /// again. Builds every level first; only for a tile whose deepest level
+    /// is above max_level.
+    Patch band_of_child(const NodeId& child_root) const;
+
     /// What the tile holds now: the levels built and its frontier. Grows as
     /// levels are built (TileContext::resized).
     std::size_t bytes_held() const;
 
 private:
     bool in_tile(const NodeId& id) const;
-    /// Whether the frontier is kept once level j is built.
+    /// Whether the frontier is kept once level j is built: only at the
+    /// deepest level, for child tiles. A tile's first level is most often
+    /// its only one (nine tiles in ten in the blob5k close-up), so the band a
+    /// deeper level starts from is derived again when one is built
+    /// (band_at), not kept in every tile.
     bool needs_frontier(int j) const;
+    /// Level j of the tile's triangles with their border, finished (j <= the
+    /// deepest level built, below the tile's deepest): from the parent's
+    /// band around the root (or, for a base triangle, the mesh), split j times.
+    Patch band_at(int j) const;
     std::size_t index_in_level(const NodeId& id) const;
     std::size_t vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const;
     using GridPoint = std::array<std::uint32_t, 2>;
@@ -170,7 +189,9 @@ private:
     std::pair<int, std::size_t> edge_slot(const NodeId& id, const GridPoint& p,
                                           const GridPoint& q) const;
     NodeRecord assemble(const TileLevel& level, const NodeId& id) const;
-    void build_level(int j);
+    /// Level j's records from `q`, level j - 1 with its border; leaves
+    /// level j's band in `q`, finished.
+    void build_level(int j, Patch& q);
     /// Level j's records (levels_[j - 1]) from its patch `q` (finished, the
     /// tile's triangles listed in `tile_tris`) and the next level's
     /// points around them.
@@ -186,8 +207,10 @@ private:
     int depth_ = 0;
     std::vector<TileLevel> levels_;
     Vec3 origin_{0.0};  ///< shells are stored relative to it
-    /// The deepest level built (without rings and edges).
-    Patch frontier_;
+    /// The deepest level with its border (without rings and edges), once
+    /// the tile's last level is built and child tiles may start from it
+    /// (a pointer: most tiles never hold one, and a Patch is ~350 bytes).
+    std::unique_ptr<Patch> frontier_;
     mutable std::mutex mutex_;
     mutable std::atomic<int> ready_{0};
 };

@@ -116,9 +116,13 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
         for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
             INFO(name << ", " << scheme_name(scheme));
             std::atomic<std::uint64_t> records{0}, ns{0};
-            TileContext ctx{topo, detail::rules_of(scheme), ShellKind::aabb_slab, 6, &records, &ns, nullptr, {}};
+            TileContext ctx{topo, detail::rules_of(scheme), ShellKind::aabb_slab, 6, &records, &ns, nullptr, {}, {}};
             const RootRecords roots(ctx);
             ctx.roots = &roots;
+            // The child tiles below build their later levels from their
+            // parent's band: the base tile built alone (not owned here).
+            const Tile* parent = nullptr;
+            ctx.parent_tile = [&](const NodeId&) { return std::shared_ptr<const Tile>(std::shared_ptr<void>(), parent); };
             std::size_t compared = 0, differing = 0;
             const auto compare = [&](const Tile& a, const Tile& b, const NodeId& root, int depth) {
                 for_each_descendant(root, depth, [&](const NodeId& id) {
@@ -133,6 +137,7 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 const NodeId root = root_node(face);
                 const Tile alone(ctx, root, alone_group);
                 const Tile with_chunk(ctx, root, whole_chunk);
+                parent = &alone;
                 compare(alone, with_chunk, root, 3);
                 // Tiles below: alone, and with their group, from either tile's
                 // last patch.
