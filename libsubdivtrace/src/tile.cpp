@@ -278,7 +278,6 @@ void Tile::build_level(int j, Patch& q) {
     thread_local ShadingMemo memo;
     memo.reset(q);
     fill_level(j, q, next, memo, tile_tris);
-    ready_.store(j, std::memory_order_release);
 }
 
 void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
@@ -395,14 +394,18 @@ void Tile::ensure_level(int j) const {
     {
         const BuildTimer timer(ctx_->build_ns);
         auto* self = const_cast<Tile*>(this);
-        for (int k = built + 1; k <= j; ++k) self->build_level(k, q);
-        if (needs_frontier(j)) {
-            // Waits, without rings and edges, for child tiles.
-            q.drop_derived();
-            self->frontier_ = std::make_unique<Patch>(std::move(q));
-        } else {
-            q.give_back_derived();  // its arrays serve the next patch this thread finishes
+        for (int k = built + 1; k <= j; ++k) {
+            self->build_level(k, q);
+            if (needs_frontier(k)) {
+                // Waits, without rings and edges, for child tiles. Stored
+                // before the level is published: readers that find the level
+                // built take no lock (below_deepest, band_of_child).
+                q.drop_derived();
+                self->frontier_ = std::make_unique<Patch>(std::move(q));
+            }
+            ready_.store(k, std::memory_order_release);
         }
+        q.give_back_derived();  // its arrays serve the next patch this thread finishes
     }
     if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
 }
