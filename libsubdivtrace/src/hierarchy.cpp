@@ -122,10 +122,17 @@ struct BelowParents {
     std::array<Slot, k_slots> slots;
     std::size_t next = 0;  ///< the slot replaced next (round robin)
 
+    /// The level below tile `root`'s deepest, if this thread has it.
+    const detail::Patch* find(std::uint64_t owner, const NodeId& root) const {
+        for (const Slot& s : slots)
+            if (s.tally && s.owner == owner && s.root == root) return &s.patch;
+        return nullptr;
+    }
+
+    /// The level below tile `root`'s deepest, computed if this thread has it not.
     const detail::Patch& of(std::uint64_t owner, const NodeId& root, const detail::Tile& parent,
                             const std::shared_ptr<FrontTally>& tally) {
-        for (Slot& s : slots)
-            if (s.tally && s.owner == owner && s.root == root) return s.patch;
+        if (const detail::Patch* found = find(owner, root)) return *found;
         Slot& s = slots[next];
         next = (next + 1) % k_slots;
         release(s);
@@ -146,6 +153,12 @@ struct BelowParents {
 
     ~BelowParents() {
         for (Slot& s : slots) release(s);
+    }
+
+    /// This thread's.
+    static BelowParents& mine() {
+        thread_local BelowParents below;
+        return below;
     }
 };
 
@@ -168,9 +181,13 @@ public:
                 detail::TileKey{id, root}, [&](const std::shared_ptr<const CachedTile>& v) { return &v->tile == &t; },
                 before, after);
         };
-        context.parent_tile = [this](const NodeId& root) {
-            std::shared_ptr<const CachedTile> parent = tile(detail::parent_tile_root(root));
-            return std::shared_ptr<const detail::Tile>(parent, &parent->tile);
+        context.child_start = [this](const NodeId& root) {
+            // Cut from the level below the parent where this thread has it
+            // (the group's own start, cheaper than splitting the parent's band).
+            const NodeId parent_root = detail::parent_tile_root(root);
+            if (const detail::Patch* below = BelowParents::mine().find(id, parent_root))
+                return detail::band_of_roots(*below, {root});
+            return tile(parent_root)->tile.band_of_child(root);
         };
         tiles.surfaces.fetch_add(1, std::memory_order_relaxed);
     }
@@ -239,9 +256,8 @@ public:
                 // depend on the cache).
                 const NodeId parent_root = detail::parent_tile_root(root);
                 const std::shared_ptr<const CachedTile> parent = tile(parent_root);
-                thread_local BelowParents below;
-                start = std::make_unique<detail::TileGroup>(context, below.of(id, parent_root, parent->tile, front_tally),
-                                                            roots);
+                start = std::make_unique<detail::TileGroup>(
+                    context, BelowParents::mine().of(id, parent_root, parent->tile, front_tally), roots);
             }
             std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
             for (const NodeId& r : roots) {

@@ -145,6 +145,33 @@ std::vector<std::uint32_t> TileGroup::triangles_of(const NodeId& root, InRoot in
     return tris;
 }
 
+Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots) {
+    // The roots' children and their border, cut from the level below the
+    // parent (its siblings are cut from the same patch, whose incident lists
+    // below_deepest() built once, so each cut costs its own size).
+    if (!below_parent.has_incidence())
+        throw std::logic_error("subdivtrace tile: a child tile's start has no incident lists (Tile::below_deepest builds them)");
+    // Its triangles are in the hierarchy's order (patch.h), so each root's
+    // descendants are a contiguous run, found by binary search (a scan of
+    // the whole patch per group was 1.5% of a close-up's instructions).
+    const std::uint32_t face = roots.front().face;
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> spans;
+    spans.reserve(roots.size());
+    for (const NodeId& r : roots) spans.push_back(depth_first_span(r));
+    std::sort(spans.begin(), spans.end());
+    const std::vector<PatchTriangle>& tris = below_parent.tris;
+    const auto before = [&](const PatchTriangle& t, std::uint64_t key) {
+        return t.id.face != face ? t.id.face < face : depth_first_key(t.id) < key;
+    };
+    std::vector<std::uint32_t> region;
+    for (const auto& [first, last] : spans) {
+        const auto from = std::lower_bound(tris.begin(), tris.end(), first, before);
+        const auto to = std::lower_bound(from, tris.end(), last, before);
+        for (auto it = from; it != to; ++it) region.push_back(static_cast<std::uint32_t>(it - tris.begin()));
+    }
+    return Patch::copy_of(below_parent, below_parent.band_around(region));
+}
+
 TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vector<NodeId> roots)
     : tiles_(roots.size()) {
     const BuildTimer timer(ctx.build_ns);
@@ -165,29 +192,7 @@ TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vec
         if (id.level <= level || id.face != face) return false;
         return std::binary_search(root_keys.begin(), root_keys.end(), grid_key(ancestor_at(id, level)));
     };
-    // The roots' children and their border, cut from the level below the
-    // parent (its siblings are cut from the same patch, whose incident lists
-    // below_deepest() built once, so each cut costs its own size).
-    if (!below_parent.has_incidence())
-        throw std::logic_error("subdivtrace tile: a child tile's start has no incident lists (Tile::below_deepest builds them)");
-    // Its triangles are in the hierarchy's order (patch.h), so each root's
-    // descendants are a contiguous run, found by binary search (a scan of
-    // the whole patch per group was 1.5% of a close-up's instructions).
-    std::vector<std::pair<std::uint64_t, std::uint64_t>> spans;
-    spans.reserve(roots.size());
-    for (const NodeId& r : roots) spans.push_back(depth_first_span(r));
-    std::sort(spans.begin(), spans.end());
-    const std::vector<PatchTriangle>& tris = below_parent.tris;
-    const auto before = [&](const PatchTriangle& t, std::uint64_t key) {
-        return t.id.face != face ? t.id.face < face : depth_first_key(t.id) < key;
-    };
-    std::vector<std::uint32_t> region;
-    for (const auto& [first, last] : spans) {
-        const auto from = std::lower_bound(tris.begin(), tris.end(), first, before);
-        const auto to = std::lower_bound(from, tris.end(), last, before);
-        for (auto it = from; it != to; ++it) region.push_back(static_cast<std::uint32_t>(it - tris.begin()));
-    }
-    level_ = Patch::copy_of(below_parent, below_parent.band_around(region));
+    level_ = band_of_roots(below_parent, roots);
     prepare(ctx, in_group);
 }
 
@@ -225,7 +230,13 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     ready_.store(1, std::memory_order_release);
 }
 
-bool Tile::needs_frontier(int j) const { return j == depth_ && root_.level + depth_ < ctx_->max_level; }
+bool Tile::needs_frontier(int j) const {
+    // Child tiles start from the deepest level. A base triangle's tile also
+    // keeps each level for the next: alone, it would start again from a
+    // level-0 patch of about 49 faces (in the blob5k close-up, deriving it
+    // cost 12% more instructions, nearly all in base tiles).
+    return j == depth_ ? root_.level + depth_ < ctx_->max_level : root_.level == 0;
+}
 
 bool Tile::in_tile(const NodeId& id) const {
     return id.face == root_.face && id.level > root_.level && ancestor_at(id, root_.level) == root_;
@@ -251,12 +262,12 @@ Patch Tile::band_at(int j) const {
     if (root_.level == 0) {
         q = base_patch(ctx_->topo, &root_.face, 1);
     } else {
-        if (!ctx_->parent_tile)
-            throw std::logic_error("subdivtrace tile: a child tile's later levels need its parent (TileContext::parent_tile)");
-        q = ctx_->parent_tile(root_)->band_of_child(root_);
+        if (!ctx_->child_start)
+            throw std::logic_error("subdivtrace tile: a child tile's later levels need their start (TileContext::child_start)");
+        q = ctx_->child_start(root_);
     }
     const BuildTimer timer(ctx_->build_ns);
-    for (int k = 1; k <= j; ++k) q = split_band(q);
+    while (q.level < root_.level + j) q = split_band(q);
     return q;
 }
 
@@ -390,16 +401,25 @@ void Tile::ensure_level(int j) const {
     const int built = ready_.load(std::memory_order_relaxed);
     if (built >= j) return;  // another thread built it
     const std::size_t before = bytes_held();
-    Patch q = band_at(built);  // times itself: the parent's builds time their own
+    // The band of the level built last: kept, or derived again (band_at
+    // times itself, as the parent's builds time their own).
+    auto* self = const_cast<Tile*>(this);
+    Patch q;
+    if (frontier_) {
+        q = std::move(*frontier_);
+        self->frontier_.reset();
+    } else {
+        q = band_at(built);
+    }
     {
         const BuildTimer timer(ctx_->build_ns);
-        auto* self = const_cast<Tile*>(this);
         for (int k = built + 1; k <= j; ++k) {
             self->build_level(k, q);
-            if (needs_frontier(k)) {
-                // Waits, without rings and edges, for child tiles. Stored
-                // before the level is published: readers that find the level
-                // built take no lock (below_deepest, band_of_child).
+            if (k == j && needs_frontier(k)) {
+                // Waits, without rings and edges, for what starts from it.
+                // Stored before the level is published: readers that find
+                // the deepest level built take no lock (below_deepest,
+                // band_of_child).
                 q.drop_derived();
                 self->frontier_ = std::make_unique<Patch>(std::move(q));
             }

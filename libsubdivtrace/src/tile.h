@@ -47,11 +47,12 @@ struct TileContext {
     /// child tiles start from), with its bytes_held() before and after, so
     /// the cache charges what tiles hold rather than what they might.
     std::function<void(const Tile& tile, const NodeId& root, std::size_t before, std::size_t after)> resized;
-    /// The tile whose deepest level holds tile root `root` (level >= 1),
-    /// kept alive by the pointer: a tile builds its later levels from the
-    /// parent's band around its root (Tile::band_of_child) instead of keeping
-    /// its own band between levels.
-    std::function<std::shared_ptr<const Tile>(const NodeId& root)> parent_tile;
+    /// Where tile root `root` (level >= 1) builds its later levels from,
+    /// as it keeps no band between levels: its first level with its border,
+    /// cut from the level below its parent's deepest where this thread still
+    /// has it (band_of_roots), or else the parent's band around the root at
+    /// the root's level (Tile::band_of_child). Neither finished.
+    std::function<Patch(const NodeId& root)> child_start;
 };
 
 /// The first level of a group of tiles, computed once for all of them: the
@@ -105,6 +106,12 @@ private:
 constexpr int k_group_levels = 0;
 /// The roots of the group holding tile root `root` (level >= k_tile_depth), `root` among them.
 std::vector<NodeId> tile_group_of(const NodeId& root);
+
+/// The children of tile roots `roots` (one face and level) with their
+/// border, cut from `below_parent` (Tile::below_deepest of the tile whose
+/// deepest level holds them; with incident lists): a group's first level,
+/// not finished.
+Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots);
 
 /// What a tile keeps of one grid point of a level: a node record's corner
 /// values (NodeRecord), together, as a ray reads them together.
@@ -170,15 +177,16 @@ public:
 
 private:
     bool in_tile(const NodeId& id) const;
-    /// Whether the frontier is kept once level j is built: only at the
-    /// deepest level, for child tiles. A tile's first level is most often
-    /// its only one (nine tiles in ten in the blob5k close-up), so the band a
-    /// deeper level starts from is derived again when one is built
-    /// (band_at), not kept in every tile.
+    /// Whether the frontier is kept once level j is built: at the deepest
+    /// level, for child tiles, and in a base triangle's tile. A child tile's
+    /// first level is most often its only one (nine tiles in ten in the
+    /// blob5k close-up), so the band its next level starts from is derived
+    /// again from its parent when one is built (band_at), not kept.
     bool needs_frontier(int j) const;
-    /// Level j of the tile's triangles with their border, finished (j <= the
-    /// deepest level built, below the tile's deepest): from the parent's
-    /// band around the root (or, for a base triangle, the mesh), split j times.
+    /// Level j of the tile's triangles with their border, not finished
+    /// (j <= the deepest level built, below the tile's deepest): from
+    /// TileContext::child_start (or, for a base triangle, the mesh), split
+    /// down to level j.
     Patch band_at(int j) const;
     std::size_t index_in_level(const NodeId& id) const;
     std::size_t vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const;
@@ -207,9 +215,9 @@ private:
     int depth_ = 0;
     std::vector<TileLevel> levels_;
     Vec3 origin_{0.0};  ///< shells are stored relative to it
-    /// The deepest level with its border (without rings and edges), once
-    /// the tile's last level is built and child tiles may start from it
-    /// (a pointer: most tiles never hold one, and a Patch is ~350 bytes).
+    /// The last level built with its border (without rings and edges), for
+    /// the levels and child tiles that start from it (needs_frontier; a
+    /// pointer: most tiles never hold one, and a Patch is ~350 bytes).
     std::unique_ptr<Patch> frontier_;
     mutable std::mutex mutex_;
     mutable std::atomic<int> ready_{0};

@@ -120,9 +120,9 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
             const RootRecords roots(ctx);
             ctx.roots = &roots;
             // The child tiles below build their later levels from their
-            // parent's band: the base tile built alone (not owned here).
+            // parent's band: the base tile built alone.
             const Tile* parent = nullptr;
-            ctx.parent_tile = [&](const NodeId&) { return std::shared_ptr<const Tile>(std::shared_ptr<void>(), parent); };
+            ctx.child_start = [&](const NodeId& root) { return parent->band_of_child(root); };
             std::size_t compared = 0, differing = 0;
             const auto compare = [&](const Tile& a, const Tile& b, const NodeId& root, int depth) {
                 for_each_descendant(root, depth, [&](const NodeId& id) {
@@ -154,6 +154,16 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 const Tile child_alone(ctx, child_root, child_alone_group);
                 const Tile child_with_siblings(ctx, child_root, child_siblings);
                 compare(child_alone, child_with_siblings, child_root, 3);
+                // A tile keeps no band between its levels; its later levels
+                // start from the parent's band around its root (above) or,
+                // where the hierarchy still has it, from the level below the
+                // parent: the same bits either way.
+                TileContext from_below = ctx;
+                const Patch below = alone.below_deepest();
+                from_below.child_start = [&](const NodeId& r) { return band_of_roots(below, {r}); };
+                TileGroup child_from_below_group(from_below, below, {child_root});
+                const Tile child_from_below(from_below, child_root, child_from_below_group);
+                compare(child_alone, child_from_below, child_root, 3);
             }
             CHECK(compared > 0);
             CHECK(differing == 0);
