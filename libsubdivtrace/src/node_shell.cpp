@@ -59,21 +59,6 @@ CompactShell CompactShell::from(const Shell& s, const Vec3& origin) {
     return c;
 }
 
-Shell CompactShell::expand(const Vec3& origin) const {
-    Shell s;
-    s.lo = origin + Vec3(lo[0], lo[1], lo[2]);
-    s.hi = origin + Vec3(hi[0], hi[1], hi[2]);
-    s.axis = Vec3(axis[0], axis[1], axis[2]);
-    const double offset = glm::dot(s.axis, origin);
-    s.slab_min = offset + slab_min;
-    s.slab_max = offset + slab_max;
-    // The additions above round to nearest: pad by their error bound (the
-    // sums of absolute values bound every coordinate and the slab offset).
-    const Vec3 ao = glm::abs(origin) + glm::max(glm::abs(s.lo), glm::abs(s.hi));
-    s.pad(gamma_bound(4) * (ao.x + ao.y + ao.z + std::abs(offset)));
-    return s;
-}
-
 Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const NodeRecord& rec,
                        const SchemeRules& scheme, ShellKind shell_kind, int max_level) {
     const PatchTriangle& tri = p.tris[t];

@@ -4,7 +4,11 @@
 // form tiles store it in.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "patch.h"
 #include "subdivtrace/hierarchy.h"
@@ -24,7 +28,21 @@ struct CompactShell {
     /// `shell.axis` must already be a float-representable vector (make_record
     /// rounds it first), so the slab keeps its meaning.
     static CompactShell from(const Shell& shell, const Vec3& origin);
-    Shell expand(const Vec3& origin) const;
+    /// Inline: every child record a tile hands out expands one.
+    Shell expand(const Vec3& origin) const {
+        Shell s;
+        s.lo = origin + Vec3(lo[0], lo[1], lo[2]);
+        s.hi = origin + Vec3(hi[0], hi[1], hi[2]);
+        s.axis = Vec3(axis[0], axis[1], axis[2]);
+        const double offset = glm::dot(s.axis, origin);
+        s.slab_min = offset + slab_min;
+        s.slab_max = offset + slab_max;
+        // The additions above round to nearest: pad by their error bound (the
+        // sums of absolute values bound every coordinate and the slab offset).
+        const Vec3 ao = glm::abs(origin) + glm::max(glm::abs(s.lo), glm::abs(s.hi));
+        s.pad(gamma_bound(4) * (ao.x + ao.y + ao.z + std::abs(offset)));
+        return s;
+    }
 };
 
 /// The float nearest x that is not below x (round_up), not above it (round_down).

@@ -6,13 +6,6 @@
 
 namespace subdivtrace {
 
-void Shell::pad(double margin) {
-    lo -= Vec3(margin);
-    hi += Vec3(margin);
-    slab_min -= margin;
-    slab_max += margin;
-}
-
 bool Shell::contains(const Vec3& p, double slack) const {
     if (p.x < lo.x - slack || p.y < lo.y - slack || p.z < lo.z - slack) return false;
     if (p.x > hi.x + slack || p.y > hi.y + slack || p.z > hi.z + slack) return false;

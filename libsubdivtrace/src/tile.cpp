@@ -90,6 +90,16 @@ std::size_t Tile::index_in_level(const NodeId& id) const {
                                 !id.down);
 }
 
+// Inline: Tile::children() asks for six per call (1.5% of the close-up's
+// instructions as a call).
+inline std::size_t Tile::vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const {
+    const std::size_t n = std::size_t{1} << (id.level - root_.level);
+    const std::size_t x = root_.down ? (root_.i + 1) * n - gi : gi - root_.i * n;
+    const std::size_t y = root_.down ? (root_.j + 1) * n - gj : gj - root_.j * n;
+    // Points row by row: row y holds n + 1 - y of them.
+    return y * (n + 1) - y * (y - 1) / 2 + x;
+}
+
 NodeId parent_tile_root(const NodeId& root) { return ancestor_at(root, root.level - k_tile_depth); }
 
 std::vector<NodeId> tile_group_of(const NodeId& root) {
@@ -336,13 +346,6 @@ std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, const GridPoint& p
     return {e.direction, vertex_index(id, first[0], first[1])};
 }
 
-std::size_t Tile::vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const {
-    const std::size_t n = std::size_t{1} << (id.level - root_.level);
-    const std::size_t x = root_.down ? (root_.i + 1) * n - gi : gi - root_.i * n;
-    const std::size_t y = root_.down ? (root_.j + 1) * n - gj : gj - root_.j * n;
-    // Points row by row: row y holds n + 1 - y of them.
-    return y * (n + 1) - y * (y - 1) / 2 + x;
-}
 
 void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const {
     const int j = parent.level + 1 - root_.level;

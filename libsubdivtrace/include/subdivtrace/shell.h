@@ -54,8 +54,14 @@ struct Shell {
             slab_max = std::max(slab_max, d);
         }
     }
-    /// Pads box and slab by `margin` in every direction.
-    void pad(double margin);
+    /// Pads box and slab by `margin` in every direction. Inline: every
+    /// child record a tile hands out expands a compact shell and pads it.
+    void pad(double margin) {
+        lo -= Vec3(margin);
+        hi += Vec3(margin);
+        slab_min -= margin;
+        slab_max += margin;
+    }
     bool contains(const Vec3& p, double slack = 0.0) const;
     /// Width of the slab along its axis.
     double thickness() const { return slab_max - slab_min; }
