@@ -325,6 +325,10 @@ NodeRecord Hierarchy::node(const NodeId& id) const {
     return impl_->front_tile(detail::tile_root_of(id))->record(id);
 }
 
+void Hierarchy::child_shells(const NodeId& id, std::array<Shell, 4>& out) const {
+    impl_->front_tile(detail::tile_root_of(child_of(id, 0)))->child_shells(id, out);
+}
+
 void Hierarchy::children(const NodeId& id, std::array<NodeRecord, 4>& out) const {
     impl_->front_tile(detail::tile_root_of(child_of(id, 0)))->children(id, out);
 }

@@ -155,6 +155,12 @@ public:
     /// The records of the four children of `parent` (whose children are in
     /// this tile), in child_of order.
     void children(const NodeId& parent, std::array<NodeRecord, 4>& out) const;
+    void child_shells(const NodeId& parent, std::array<Shell, 4>& out) const {
+        const int j = parent.level + 1 - root_.level;
+        if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
+        const TileLevel& level = levels_[j - 1];
+        for (int c = 0; c < 4; ++c) out[c] = level.shells[index_in_level(child_of(parent, c))].expand(origin_);
+    }
 
     /// The level below its deepest one (its triangles' children and their
     /// band, not finished but with incident lists), where child tiles start

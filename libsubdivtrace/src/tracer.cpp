@@ -446,20 +446,18 @@ struct Walk {
             bool hit;
         };
         Child children[4];
-        std::array<NodeRecord, 4> child_recs;
-        s.hierarchy.children(id, child_recs);
+        std::array<Shell, 4> child_shells;
+        s.hierarchy.child_shells(id, child_shells);
         for (int c = 0; c < 4; ++c) {
             Child& ch = children[c];
             ch.id = child_of(id, c);
-            const NodeRecord& child_rec = child_recs[c];
             const auto& map = child_corners(id.down, c);
             for (int k = 0; k < 3; ++k) {
                 const ChildCorner cc = map[k];
                 const bool own =
                     naive || (cc.is_edge ? refine[cc.index] : drawn[cc.index].alive);
                 if (own) {
-                    ch.drawn[k] = {child_rec.draw_position[k], child_rec.shading_normal[k],
-                                   grid_domain(ch.id, k), true};
+                    ch.drawn[k].alive = true;  // filled from its record if the ray enters it
                 } else if (!cc.is_edge) {
                     ch.drawn[k] = drawn[cc.index];
                 } else {
@@ -475,7 +473,7 @@ struct Walk {
                 else if (!q.is_edge) ch.exists[k] = refine[p.index];
                 else ch.exists[k] = true;
             }
-            ch.hit = shell_entry(child_rec.shell, ch.drawn, ch.t_entry);
+            ch.hit = shell_entry(child_shells[c], ch.drawn, ch.t_entry);
         }
         int order[4] = {0, 1, 2, 3};
         std::sort(order, order + 4, [&](int x, int y) {
@@ -489,7 +487,14 @@ struct Walk {
             if (mode == WalkMode::nearest && ch.t_entry > t_max) break;
             const bool snapped = !ch.drawn[0].alive || !ch.drawn[1].alive || !ch.drawn[2].alive;
             inherited.snap_depth = snapped ? snap_depth : 0.0;
-            visit(ch.id, child_recs[order[k]], ch.drawn, ch.exists, inherited);
+            const NodeRecord child_rec = s.hierarchy.node(ch.id);
+            const auto& map = child_corners(id.down, order[k]);
+            for (int c = 0; c < 3; ++c) {
+                const bool own = naive || (map[c].is_edge ? refine[map[c].index] : drawn[map[c].index].alive);
+                if (own)
+                    ch.drawn[c] = {child_rec.draw_position[c], child_rec.shading_normal[c], grid_domain(ch.id, c), true};
+            }
+            visit(ch.id, child_rec, ch.drawn, ch.exists, inherited);
         }
     }
 };

@@ -400,3 +400,38 @@ TEST_CASE("shading normals are the next level's normals at a node's corners and 
         }
     }
 }
+
+TEST_CASE("child shells alone are the shells of the children's records", "[hierarchy]") {
+    // The tracer tests a node's child shells before it asks for the records
+    // of the children it enters: both must hold the same bits.
+    const Mesh mesh = testmesh::irregular_closed(3);
+    for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
+        INFO(scheme_name(scheme));
+        const Hierarchy h(mesh, scheme, 6, std::size_t{64} << 20);
+        std::size_t compared = 0, differing = 0;
+        std::vector<NodeId> level;
+        for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) level.push_back(Hierarchy::root(f));
+        for (int l = 0; l < 5; ++l) {
+            std::vector<NodeId> next;
+            for (const NodeId& id : level) {
+                std::array<Shell, 4> shells;
+                h.child_shells(id, shells);
+                std::array<NodeRecord, 4> records;
+                h.children(id, records);
+                for (int c = 0; c < 4; ++c) {
+                    const Shell& a = shells[c];
+                    const Shell& b = records[c].shell;
+                    ++compared;
+                    if (!(a.lo == b.lo && a.hi == b.hi && a.axis == b.axis && a.slab_min == b.slab_min &&
+                          a.slab_max == b.slab_max))
+                        ++differing;
+                    // A sample of each level goes one deeper (every fourth child).
+                    if ((id.i + id.j + static_cast<std::uint32_t>(c)) % 4 == 0) next.push_back(child_of(id, c));
+                }
+            }
+            level = std::move(next);
+        }
+        CHECK(compared > 1000);
+        CHECK(differing == 0);
+    }
+}

@@ -108,6 +108,9 @@ public:
     /// The records of the four children of `id` (level < max_level), in
     /// child_of order: one tile lookup for all four. Thread-safe.
     void children(const NodeId& id, std::array<NodeRecord, 4>& out) const;
+    /// The shells of the four children of `id` alone (what a ray tests
+    /// before it enters one), in child_of order.
+    void child_shells(const NodeId& id, std::array<Shell, 4>& out) const;
 
     HierarchyCounters counters() const;
 
