@@ -487,13 +487,12 @@ struct Walk {
             if (mode == WalkMode::nearest && ch.t_entry > t_max) break;
             const bool snapped = !ch.drawn[0].alive || !ch.drawn[1].alive || !ch.drawn[2].alive;
             inherited.snap_depth = snapped ? snap_depth : 0.0;
+            // Its own corners (the alive ones: every other is a parent's
+            // dead corner or a snapped one) come from its record.
             const NodeRecord child_rec = s.hierarchy.node(ch.id);
-            const auto& map = child_corners(id.down, order[k]);
-            for (int c = 0; c < 3; ++c) {
-                const bool own = naive || (map[c].is_edge ? refine[map[c].index] : drawn[map[c].index].alive);
-                if (own)
+            for (int c = 0; c < 3; ++c)
+                if (ch.drawn[c].alive)
                     ch.drawn[c] = {child_rec.draw_position[c], child_rec.shading_normal[c], grid_domain(ch.id, c), true};
-            }
             visit(ch.id, child_rec, ch.drawn, ch.exists, inherited);
         }
     }
