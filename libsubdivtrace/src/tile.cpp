@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <type_traits>
 #include <stdexcept>
 
 #include "patch.h"
@@ -45,12 +47,13 @@ private:
 /// Corner k of a record from grid point v of a tile level (all but the
 /// edge normals, which are kept per grid edge).
 void set_corner(const TileLevel& level, std::size_t v, int k, NodeRecord& rec) {
-    const TilePoint& point = level.points[v];
+    const TilePoint& point = level.points()[v];
     rec.position[k] = point.position;
     rec.normal[k] = point.normal;
-    rec.shading_normal[k] = Vec3(point.shading);
+    rec.shading_normal[k] = point.shading.vector();
     rec.displacement[k] = point.displacement;
-    rec.draw_position[k] = level.draw.empty() ? point.position : level.draw[v];
+    const Vec3* draw = level.draw();
+    rec.draw_position[k] = draw ? draw[v] : point.position;
 }
 
 /// Triangle index of local grid position (x, y) among the n^2 triangles of
@@ -217,8 +220,7 @@ TileGroup::~TileGroup() {
 }
 
 Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
-    : ctx_(&ctx), root_(root), levels_(std::min(k_tile_depth, ctx.max_level - root.level)) {
-    depth_ = static_cast<int>(levels_.size());
+    : ctx_(&ctx), root_(root), depth_(std::min(k_tile_depth, ctx.max_level - root.level)) {
     const BuildTimer timer(ctx.build_ns);
     Patch& q = group.level_;
     // A base triangle's tile holds every triangle of its face.
@@ -304,12 +306,11 @@ void Tile::build_level(int j, Patch& q) {
 void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
                       const std::vector<std::uint32_t>& tile_tris) {
     TileLevel& out = levels_[j - 1];
-    const std::size_t n = std::size_t{1} << j;
-    out.points.resize((n + 1) * (n + 2) / 2);
-    if (ctx_->scheme.draws_limit_points()) out.draw.resize(out.points.size());
-    out.shells.resize(n * n);
+    out.allocate(j, ctx_->scheme.draws_limit_points());
+    TilePoint* points = out.points();
+    Vec3* draw = out.draw();
     thread_local std::vector<Shell> shells;  // in double precision until compacted below
-    shells.assign(n * n, Shell{});
+    shells.assign(out.shell_count(), Shell{});
     for (std::uint32_t t : tile_tris) {
         const PatchTriangle& tri = q.tris[t];
         for (std::uint32_t v : tri.v) q.ensure_normal(ctx_->topo, ctx_->scheme, v);
@@ -318,20 +319,21 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
         const auto grid = node_corner_grid(tri.id);
         for (int c = 0; c < 3; ++c) {
             const std::size_t v = vertex_index(tri.id, grid[c][0], grid[c][1]);
-            TilePoint& point = out.points[v];
+            TilePoint& point = points[v];
             point.position = rec.position[c];
             point.normal = rec.normal[c];
-            point.shading = glm::vec3(rec.shading_normal[c]);
+            point.shading = OctahedralNormal::from(rec.shading_normal[c]);
             point.displacement = rec.displacement[c];
-            if (!out.draw.empty()) out.draw[v] = rec.draw_position[c];
+            if (draw) draw[v] = rec.draw_position[c];
             const auto [direction, at] = edge_slot(tri.id, c);
-            out.points[at].edge_normal[direction] = rec.edge_normal[c];
+            points[at].edge_normal[direction] = OctahedralNormal::from(Vec3(rec.edge_normal[c]));
         }
     }
     // Shells relative to a point of the tile: its first grid point at level 1.
-    if (j == 1) origin_ = out.points[0].position;
-    for (std::size_t k = 0; k < shells.size(); ++k) out.shells[k] = CompactShell::from(shells[k], origin_);
-    ctx_->records_built->fetch_add(out.shells.size(), std::memory_order_relaxed);
+    if (j == 1) origin_ = points[0].position;
+    CompactShell* compact = out.shells();
+    for (std::size_t k = 0; k < shells.size(); ++k) compact[k] = CompactShell::from(shells[k], origin_);
+    ctx_->records_built->fetch_add(shells.size(), std::memory_order_relaxed);
 }
 
 std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, int e) const {
@@ -380,9 +382,10 @@ void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const 
             // As edge_slot(), with both ends' indices already known.
             const int l = (k + 1) % 3;
             const GridEdge e = grid_edge(*at[k], *at[l]);
-            rec.edge_normal[k] = level.points[e.p_first ? index[k] : index[l]].edge_normal[e.direction];
+            rec.edge_normal[k] =
+                glm::vec3(level.points()[e.p_first ? index[k] : index[l]].edge_normal[e.direction].vector());
         }
-        rec.shell = level.shells[index_in_level(child)].expand(origin_);
+        rec.shell = level.shells()[index_in_level(child)].expand(origin_);
     }
 }
 
@@ -393,9 +396,9 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
         const std::size_t v = vertex_index(id, grid[c][0], grid[c][1]);
         set_corner(level, v, c, rec);
         const auto [direction, slot] = edge_slot(id, grid[c], grid[(c + 1) % 3]);
-        rec.edge_normal[c] = level.points[slot].edge_normal[direction];
+        rec.edge_normal[c] = glm::vec3(level.points()[slot].edge_normal[direction].vector());
     }
-    rec.shell = level.shells[index_in_level(id)].expand(origin_);
+    rec.shell = level.shells()[index_in_level(id)].expand(origin_);
     return rec;
 }
 
@@ -453,24 +456,36 @@ Patch Tile::band_of_child(const NodeId& child_root) const {
 
 namespace {
 
-/// Heap bytes of a vector's block as glibc's malloc allocates it (its size
-/// plus an 8-byte header, rounded up to 16, at least 32): a tile holds about
-/// ten small arrays per level, and leaving this out undercharged tiles by
-/// about 20% (RSS above the budget, docs/povray.md "Memory").
-template <class T>
-std::size_t held(const std::vector<T>& v) {
-    if (v.capacity() == 0) return 0;
-    return std::max<std::size_t>(32, (v.capacity() * sizeof(T) + 8 + 15) / 16 * 16);
+/// Heap bytes of a block of `bytes` as glibc's malloc allocates it (plus an
+/// 8-byte header, rounded up to 16, at least 32): leaving this out of the
+/// small arrays tiles held undercharged them by about 20% (RSS above the
+/// budget, docs/povray.md "Memory").
+std::size_t heap_bytes(std::size_t bytes) {
+    return bytes == 0 ? 0 : std::max<std::size_t>(32, (bytes + 8 + 15) / 16 * 16);
 }
 
 }  // namespace
 
+void TileLevel::allocate(int j, bool with_draw) {
+    static_assert(std::is_trivially_destructible_v<TilePoint> && std::is_trivially_destructible_v<Vec3> &&
+                  std::is_trivially_destructible_v<CompactShell>,
+                  "a level's block is freed without destructors");
+    static_assert(sizeof(TilePoint) % alignof(Vec3) == 0 && sizeof(Vec3) % alignof(CompactShell) == 0,
+                  "each array of the block starts aligned");
+    j_ = static_cast<std::uint8_t>(j);
+    with_draw_ = with_draw;
+    block_.reset(new std::byte[block_bytes()]);
+    std::uninitialized_value_construct_n(points(), point_count());
+    if (with_draw_) std::uninitialized_value_construct_n(draw(), point_count());
+    std::uninitialized_value_construct_n(shells(), shell_count());
+}
+
+std::size_t TileLevel::bytes_held() const { return built() ? heap_bytes(block_bytes()) : 0; }
+
 std::size_t Tile::bytes_held() const {
-    std::size_t bytes = sizeof(Tile) + held(levels_);
+    std::size_t bytes = sizeof(Tile);
     if (frontier_) bytes += sizeof(Patch) + frontier_->owned_bytes();
-    for (const TileLevel& l : levels_) {
-        bytes += held(l.points) + held(l.draw) + held(l.shells);
-    }
+    for (const TileLevel& l : levels_) bytes += l.bytes_held();
     return bytes;
 }
 

@@ -14,6 +14,7 @@
 
 #include "base_topology.h"
 #include "node_shell.h"
+#include "octahedral_normal.h"
 #include "patch.h"
 #include "subdivtrace/hierarchy.h"
 #include "subdivtrace/shell.h"
@@ -114,25 +115,61 @@ std::vector<NodeId> tile_group_of(const NodeId& root);
 Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots);
 
 /// What a tile keeps of one grid point of a level: a node record's corner
-/// values (NodeRecord), together, as a ray reads them together.
+/// values (NodeRecord), together, as a ray reads them together. The normals
+/// only a ray's shading reads are kept in 6 bytes each (80 bytes a point,
+/// 104 as float vectors).
 struct TilePoint {
     Vec3 position{0.0};
     Vec3 normal{0.0};
-    glm::vec3 shading{0.0f};    ///< NodeRecord::shading_normal (a ray only reads it)
     float displacement = 0.0f;  ///< NodeRecord::displacement, rounded up
+    OctahedralNormal shading;   ///< NodeRecord::shading_normal
     /// NodeRecord::edge_normal once per grid edge: by the edge's direction
     /// (along x, along y, the diagonal), at its first grid point.
-    glm::vec3 edge_normal[3] = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
+    OctahedralNormal edge_normal[3];
 };
 
 /// One level of a tile: values on the root's sub-grid of resolution n = 2^j
-/// ((n+1)(n+2)/2 points) and a shell per triangle (n^2). Points in one
-/// array, not an array per value: a tile's levels are small, and nine
-/// blocks per level were a quarter of a render's allocations.
-struct TileLevel {
-    std::vector<TilePoint> points;
-    std::vector<Vec3> draw;  ///< Loop only (interpolating schemes draw at position)
-    std::vector<CompactShell> shells;
+/// ((n+1)(n+2)/2 points), a shell per triangle (n^2) and, for Loop, where
+/// each point is drawn. Points in one array, not an array per value: a
+/// tile's levels are small, and nine blocks per level were a quarter of a
+/// render's allocations. And the three arrays in one block, allocated when
+/// the level is built: nine tiles in ten build one level (6 points, 4
+/// shells), and three vectors per level in a vector of levels were a third
+/// of such a tile's bytes.
+class TileLevel {
+public:
+    /// Allocates level j's values, default-initialised (with Loop's drawn
+    /// points if `with_draw`). Once: a built level is read without a lock.
+    void allocate(int j, bool with_draw);
+    bool built() const { return block_ != nullptr; }
+
+    std::size_t point_count() const { return (side() + 1) * (side() + 2) / 2; }
+    std::size_t shell_count() const { return side() * side(); }
+    TilePoint* points() { return reinterpret_cast<TilePoint*>(block_.get()); }
+    const TilePoint* points() const { return reinterpret_cast<const TilePoint*>(block_.get()); }
+    /// Null where the scheme draws at the position (interpolating schemes).
+    Vec3* draw() { return with_draw_ ? reinterpret_cast<Vec3*>(block_.get() + draw_offset()) : nullptr; }
+    const Vec3* draw() const {
+        return with_draw_ ? reinterpret_cast<const Vec3*>(block_.get() + draw_offset()) : nullptr;
+    }
+    CompactShell* shells() { return reinterpret_cast<CompactShell*>(block_.get() + shell_offset()); }
+    const CompactShell* shells() const {
+        return reinterpret_cast<const CompactShell*>(block_.get() + shell_offset());
+    }
+    /// The block's bytes as the heap allocates them (0 before allocate()).
+    std::size_t bytes_held() const;
+
+private:
+    std::size_t side() const { return std::size_t{1} << j_; }
+    std::size_t draw_offset() const { return point_count() * sizeof(TilePoint); }
+    std::size_t shell_offset() const {
+        return draw_offset() + (with_draw_ ? point_count() * sizeof(Vec3) : 0);
+    }
+    std::size_t block_bytes() const { return shell_offset() + shell_count() * sizeof(CompactShell); }
+
+    std::unique_ptr<std::byte[]> block_;
+    std::uint8_t j_ = 0;
+    bool with_draw_ = false;
 };
 
 /// The records of a node's descendants, levels root.level+1 .. root.level+depth.
@@ -160,8 +197,8 @@ public:
     void child_shells(const NodeId& parent, std::array<Shell, 4>& out) const {
         const int j = parent.level + 1 - root_.level;
         if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
-        const TileLevel& level = levels_[j - 1];
-        for (int c = 0; c < 4; ++c) out[c] = level.shells[index_in_level(child_of(parent, c))].expand(origin_);
+        const CompactShell* shells = levels_[j - 1].shells();
+        for (int c = 0; c < 4; ++c) out[c] = shells[index_in_level(child_of(parent, c))].expand(origin_);
     }
 
     /// The level below its deepest one (its triangles' children and their
@@ -221,7 +258,8 @@ private:
     const TileContext* ctx_;
     NodeId root_;
     int depth_ = 0;
-    std::vector<TileLevel> levels_;
+    /// Levels 1..depth_ at [j - 1], allocated as they are built.
+    std::array<TileLevel, k_tile_depth> levels_;
     Vec3 origin_{0.0};  ///< shells are stored relative to it
     /// The last level built with its border (without rings and edges), for
     /// the levels and child tiles that start from it (needs_frontier; a
