@@ -61,9 +61,11 @@ public:
 private:
     static constexpr std::uint32_t k_max = (1u << 24) - 1;
     static double sign(double x) { return x < 0.0 ? -1.0 : 1.0; }
+    /// x in [-1, 1] to the nearest of 2^24 steps (a cast truncates the
+    /// non-negative sum: no libm call).
     static std::uint32_t quantise(double x) {
-        const double q = std::nearbyint((x + 1.0) * (0.5 * k_max));
-        return static_cast<std::uint32_t>(q < 0.0 ? 0.0 : q > k_max ? k_max : q);
+        const double q = (x + 1.0) * (0.5 * k_max) + 0.5;
+        return q <= 0.0 ? 0u : q >= k_max ? k_max : static_cast<std::uint32_t>(q);
     }
 
     std::uint16_t bits_[3] = {0, 0, 0};  ///< 24 bits of u, then 24 of v
