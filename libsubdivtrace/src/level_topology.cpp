@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "creases.h"
+#include "huge_pages.h"
 #include "ring_order.h"
 
 namespace subdivtrace {
@@ -21,7 +22,7 @@ LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
         std::uint8_t corner;
     };
     std::vector<Slot> slots;
-    slots.reserve(3 * face_count);
+    detail::reserve_huge(slots, 3 * face_count);
     for (std::uint32_t t = 0; t < face_count; ++t) {
         for (std::uint8_t i = 0; i < 3; ++i) {
             const std::uint32_t u = triangles[t][i], w = triangles[t][(i + 1) % 3];
@@ -31,7 +32,7 @@ LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
     std::sort(slots.begin(), slots.end(), [](const Slot& x, const Slot& y) {
         return std::tie(x.lo, x.hi, x.face, x.corner) < std::tie(y.lo, y.hi, y.face, y.corner);
     });
-    face_edges_.assign(3 * face_count, 0);
+    detail::assign_huge(face_edges_, 3 * face_count, std::uint32_t{0});
     for (std::size_t i = 0; i < slots.size();) {
         std::size_t j = i;
         while (j < slots.size() && slots[j].lo == slots[i].lo && slots[j].hi == slots[i].hi) ++j;
@@ -91,8 +92,8 @@ LevelTopology LevelTopology::refined(const LevelTopology& parent,
     const auto old_count = static_cast<std::uint32_t>(parent_vertex_count);
     const std::uint32_t parent_edges = parent.edge_count();
     const std::size_t face_count = children.size();
-    topo.edges_.resize(2 * std::size_t{parent_edges} + 3 * parent_triangles.size());
-    topo.face_edges_.assign(3 * face_count, 0);
+    detail::resize_huge(topo.edges_, 2 * std::size_t{parent_edges} + 3 * parent_triangles.size());
+    detail::assign_huge(topo.face_edges_, 3 * face_count, std::uint32_t{0});
 
     // Fills edge `id` {x, y} from its first and second child triangles
     // (slots as in the sorting constructor: first = lowest face index).
@@ -172,8 +173,8 @@ void LevelTopology::build_vertex_data(std::size_t vertex_count,
                                       const RefinedFrom* refined_from) {
     const std::size_t face_count = triangles.size();
     // Curves: the boundary and crease edges at each vertex.
-    curve_count_.assign(vertex_count, 0);
-    curve_nbr_.assign(2 * vertex_count, 0);
+    detail::assign_huge(curve_count_, vertex_count, std::uint8_t{0});
+    detail::assign_huge(curve_nbr_, 2 * vertex_count, std::uint32_t{0});
     for (const Edge& e : edges_) {
         if (!e.curve) continue;
         for (const auto& [v, w] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
@@ -184,18 +185,20 @@ void LevelTopology::build_vertex_data(std::size_t vertex_count,
 
     // Rings: incident corner slots per vertex (CSR), then chained into fans.
     std::vector<std::size_t>& inc_offsets = inc_offsets_;
-    inc_offsets.assign(vertex_count + 1, 0);
+    detail::assign_huge(inc_offsets, vertex_count + 1, std::size_t{0});
     for (const Triangle& t : triangles)
         for (std::uint32_t v : t) ++inc_offsets[v + 1];
     for (std::size_t v = 0; v < vertex_count; ++v) inc_offsets[v + 1] += inc_offsets[v];
-    inc_slots_.resize(inc_offsets.back());
-    std::vector<std::size_t> fill(inc_offsets.begin(), inc_offsets.end() - 1);
+    detail::resize_huge(inc_slots_, inc_offsets.back());
+    std::vector<std::size_t> fill;
+    detail::reserve_huge(fill, vertex_count);
+    fill.assign(inc_offsets.begin(), inc_offsets.end() - 1);
     for (std::uint32_t t = 0; t < face_count; ++t)
         for (std::uint32_t c = 0; c < 3; ++c) inc_slots_[fill[triangles[t][c]]++] = 3 * t + c;
 
     // Sectors, where creases pass.
-    sector_labels_.assign(vertex_count, {});
-    single_sector_.assign(vertex_count, 1);
+    detail::assign_huge(sector_labels_, vertex_count, {});
+    detail::assign_huge(single_sector_, vertex_count, std::uint8_t{1});
     if (!crease_masks.empty()) {
         std::vector<detail::FanCorner> corners;
         for (std::uint32_t v = 0; v < vertex_count; ++v) {
@@ -212,12 +215,12 @@ void LevelTopology::build_vertex_data(std::size_t vertex_count,
         }
     }
 
-    ring_offsets_.assign(vertex_count + 1, 0);
-    ring_closed_.assign(vertex_count, 0);
-    ring_regular_.assign(vertex_count, 0);
-    ring_nbrs_.reserve(3 * face_count);
-    ring_edges_.reserve(3 * face_count);
-    ring_curve_.reserve(3 * face_count);
+    detail::assign_huge(ring_offsets_, vertex_count + 1, std::size_t{0});
+    detail::assign_huge(ring_closed_, vertex_count, std::uint8_t{0});
+    detail::assign_huge(ring_regular_, vertex_count, std::uint8_t{0});
+    detail::reserve_huge(ring_nbrs_, 3 * face_count);
+    detail::reserve_huge(ring_edges_, 3 * face_count);
+    detail::reserve_huge(ring_curve_, 3 * face_count);
     std::vector<detail::FanPair<std::uint32_t>> pairs;
     detail::OrderedRing<std::uint32_t> ordered;
     const auto eq = [](std::uint32_t x, std::uint32_t y) { return x == y; };
@@ -327,7 +330,8 @@ namespace {
 std::vector<Vec3> weighted_corner_normals(const std::vector<Vec3>& positions,
                                           const std::vector<Triangle>& triangles,
                                           const std::vector<Vec3>& given) {
-    std::vector<Vec3> out(3 * triangles.size());
+    std::vector<Vec3> out;
+    detail::resize_huge(out, 3 * triangles.size());
     angle_weighted_corners(positions.data(), triangles.data(), triangles.size(), out.data());
     if (!given.empty())
         for (std::size_t slot = 0; slot < out.size(); ++slot)
@@ -339,7 +343,8 @@ std::vector<Vec3> weighted_corner_normals(const std::vector<Vec3>& positions,
 /// order (as the incidence lists run, so both give the same bits).
 std::vector<Vec3> vertex_sums(std::size_t vertex_count, const std::vector<Triangle>& triangles,
                               const std::vector<Vec3>& corners) {
-    std::vector<Vec3> sums(vertex_count, Vec3(0.0));
+    std::vector<Vec3> sums;
+    detail::assign_huge(sums, vertex_count, Vec3(0.0));
     for (std::size_t t = 0; t < triangles.size(); ++t)
         for (int c = 0; c < 3; ++c) sums[triangles[t][c]] += corners[3 * t + c];
     for (Vec3& sum : sums) sum = finish_normal(sum);
@@ -376,7 +381,8 @@ std::vector<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& positio
 
 std::vector<Vec3> smooth_vertex_normals(const std::vector<Vec3>& positions,
                                         const std::vector<Triangle>& triangles) {
-    std::vector<Vec3> sums(positions.size(), Vec3(0.0));
+    std::vector<Vec3> sums;
+    detail::assign_huge(sums, positions.size(), Vec3(0.0));
     // A block of triangles at a time, so the corners' angles vectorise.
     constexpr std::size_t k_block = 256;
     Vec3 corners[3 * k_block];

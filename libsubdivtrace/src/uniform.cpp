@@ -9,6 +9,7 @@
 #include <string>
 
 #include "creases.h"
+#include "huge_pages.h"
 #include "level_topology.h"
 #include "scheme_rules.h"
 
@@ -31,7 +32,8 @@ struct LevelState {
 /// vertex's (index below the base count) in its base triangle, zero elsewhere.
 std::vector<Vec3> given_corner_normals(const Mesh& base, const std::vector<Triangle>& triangles,
                                        int level) {
-    std::vector<Vec3> given(3 * triangles.size(), Vec3(0.0));
+    std::vector<Vec3> given;
+    detail::assign_huge(given, 3 * triangles.size(), Vec3(0.0));
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const auto face = static_cast<std::uint32_t>(t >> (2 * level));
         for (int c = 0; c < 3; ++c)
@@ -73,7 +75,8 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
 
     // Positions of the old vertices (Loop moves them; interpolating schemes keep them).
     const std::size_t old_count = positions.size();
-    std::vector<Vec3> next(old_count + topo.edge_count());
+    std::vector<Vec3> next;
+    detail::resize_huge(next, old_count + topo.edge_count());
     VertexRing ring_a;
     VertexRing ring_b;
     for (std::size_t v = 0; v < old_count; ++v) {
@@ -137,10 +140,10 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
 
     // Topology: each triangle becomes four; a crease's halves stay creases.
     std::vector<Triangle> children;
-    children.reserve(triangles.size() * 4);
+    detail::reserve_huge(children, triangles.size() * 4);
     LevelState out;
-    out.down.reserve(triangles.size() * 4);
-    if (!state.creases.empty()) out.creases.reserve(triangles.size() * 4);
+    detail::reserve_huge(out.down, triangles.size() * 4);
+    if (!state.creases.empty()) detail::reserve_huge(out.creases, triangles.size() * 4);
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const Triangle& tri = triangles[t];
         const std::uint32_t m_ab = static_cast<std::uint32_t>(old_count) + topo.face_edge(t, 0);
@@ -167,7 +170,7 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
     // Per-corner UVs are linear over the base triangle: midpoints of corners.
     if (!state.corner_uvs.empty()) {
         const std::vector<Vec2>& corners = state.corner_uvs;
-        out.corner_uvs.reserve(corners.size() * 4);
+        detail::reserve_huge(out.corner_uvs, corners.size() * 4);
         for (std::size_t t = 0; t < triangles.size(); ++t) {
             const Vec2 a = corners[3 * t], b = corners[3 * t + 1], c = corners[3 * t + 2];
             const Vec2 ab = (a + b) * 0.5, bc = (b + c) * 0.5, ca = (c + a) * 0.5;
@@ -242,8 +245,9 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind kind, int 
             scheme_normals(mesh, scheme, *topo, out.positions, out.triangles, levels, given_every_level);
         // A vertex's first corner (in slot order) names its normal; the
         // corners that differ are kept apart.
-        out.vertex_normals.assign(out.positions.size(), Vec3(0.0));
-        std::vector<std::uint8_t> named(out.positions.size(), 0);
+        detail::assign_huge(out.vertex_normals, out.positions.size(), Vec3(0.0));
+        std::vector<std::uint8_t> named;
+        detail::assign_huge(named, out.positions.size(), std::uint8_t{0});
         for (std::size_t slot = 0; slot < corners.size(); ++slot) {
             const std::uint32_t v = out.triangles[slot / 3][slot % 3];
             if (!named[v]) {
@@ -254,7 +258,7 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind kind, int 
             }
         }
     }
-    out.base_face.resize(out.triangles.size());
+    detail::resize_huge(out.base_face, out.triangles.size());
     const std::size_t per_base = std::size_t{1} << (2 * levels);
     for (std::size_t t = 0; t < out.triangles.size(); ++t) {
         out.base_face[t] = static_cast<std::uint32_t>(t / per_base);
@@ -266,7 +270,8 @@ void push_to_limit(SubdividedMesh& sub, SchemeKind scheme) {
     const SchemeRules& rules = rules_of(scheme);
     if (!rules.draws_limit_points()) return;
     const LevelTopology topo(sub.positions, sub.triangles, sub.crease_masks);
-    std::vector<Vec3> limit(sub.positions.size());
+    std::vector<Vec3> limit;
+    detail::resize_huge(limit, sub.positions.size());
     VertexRing ring;
     for (std::uint32_t v = 0; v < sub.positions.size(); ++v) {
         topo.fill_ring(v, sub.positions, ring);
@@ -296,7 +301,8 @@ Vec3 SubdividedMesh::corner_normal(std::size_t t, int c) const {
 }
 
 std::vector<Vec3> SubdividedMesh::corner_normals() const {
-    std::vector<Vec3> out(3 * triangles.size());
+    std::vector<Vec3> out;
+    detail::resize_huge(out, 3 * triangles.size());
     for (std::size_t t = 0; t < triangles.size(); ++t)
         for (int c = 0; c < 3; ++c) out[3 * t + c] = vertex_normals[triangles[t][c]];
     for (const SplitCorner& s : split_corners) out[s.slot] = s.normal;
