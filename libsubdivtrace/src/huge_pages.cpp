@@ -1,6 +1,7 @@
 #include "huge_pages.h"
 
 #include <cstdint>
+#include <new>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -25,6 +26,48 @@ void advise_huge_pages(const void* data, std::size_t bytes) {
     (void)data;
     (void)bytes;
 #endif
+}
+
+namespace {
+
+std::size_t mapping_bytes(std::size_t bytes) {
+    return (bytes + k_huge_block_bytes - 1) & ~(k_huge_block_bytes - 1);
+}
+
+}  // namespace
+
+void* allocate_huge_block(std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (bytes >= k_huge_block_bytes) {
+        const std::size_t size = mapping_bytes(bytes);
+        if (size < bytes) throw std::bad_alloc();  // wrapped around
+        // Map 2 MB more than needed, then unmap what lies outside the
+        // aligned block (the kernel does not promise alignment).
+        void* raw = mmap(nullptr, size + k_huge_block_bytes, PROT_READ | PROT_WRITE,
+                         MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (raw == MAP_FAILED) throw std::bad_alloc();
+        const auto start = reinterpret_cast<std::uintptr_t>(raw);
+        const std::uintptr_t aligned = (start + k_huge_block_bytes - 1) & ~(k_huge_block_bytes - 1);
+        if (aligned > start) munmap(raw, aligned - start);
+        const std::uintptr_t end = start + size + k_huge_block_bytes;
+        if (end > aligned + size) munmap(reinterpret_cast<void*>(aligned + size), end - (aligned + size));
+        void* block = reinterpret_cast<void*>(aligned);
+        madvise(block, size, MADV_HUGEPAGE);  // advice: errors change nothing
+        return block;
+    }
+#endif
+    return ::operator new(bytes);
+}
+
+void free_huge_block(void* block, std::size_t bytes) noexcept {
+    if (block == nullptr) return;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (bytes >= k_huge_block_bytes) {
+        munmap(block, mapping_bytes(bytes));
+        return;
+    }
+#endif
+    ::operator delete(block);
 }
 
 }  // namespace subdivtrace::detail

@@ -5,11 +5,47 @@
 // of 5-90 MB, each written once) spent more time in them than subdividing
 // (docs/benchmarks.md, "Huge pages"). Advised before its first write, a
 // large array faults once per 2 MB. Embree allocates its BVH the same way.
+//
+// Arrays of our own (a level's topology, scratch) take HugeArray, whose
+// large blocks are mappings of their own, aligned to 2 MB and advised
+// before use: every page of them is huge. Arrays handed to callers are
+// std::vectors; reserve_huge and its kin advise those where they lie, which
+// helps where the allocator mapped them afresh and not where it reuses
+// memory it already touched.
 
 #include <cstddef>
 #include <vector>
 
 namespace subdivtrace::detail {
+
+/// Blocks from 2 MB up are mappings of their own (allocate_huge_block).
+constexpr std::size_t k_huge_block_bytes = std::size_t{2} << 20;
+
+/// `bytes` of memory aligned to 16 bytes: from k_huge_block_bytes up a
+/// mapping of its own aligned to 2 MB and advised onto huge pages, below
+/// that operator new's. Throws std::bad_alloc when there is none.
+void* allocate_huge_block(std::size_t bytes);
+/// Frees a block of allocate_huge_block(bytes).
+void free_huge_block(void* block, std::size_t bytes) noexcept;
+
+/// std::allocator, with large blocks on huge pages (allocate_huge_block).
+template <class T>
+struct HugePageAllocator {
+    using value_type = T;
+    HugePageAllocator() = default;
+    template <class U>
+    HugePageAllocator(const HugePageAllocator<U>&) noexcept {}
+    T* allocate(std::size_t n) { return static_cast<T*>(allocate_huge_block(n * sizeof(T))); }
+    void deallocate(T* p, std::size_t n) noexcept { free_huge_block(p, n * sizeof(T)); }
+    template <class U>
+    bool operator==(const HugePageAllocator<U>&) const noexcept { return true; }
+    template <class U>
+    bool operator!=(const HugePageAllocator<U>&) const noexcept { return false; }
+};
+
+/// An array of our own that may grow large (a level's topology, scratch).
+template <class T>
+using HugeArray = std::vector<T, HugePageAllocator<T>>;
 
 /// Asks the kernel to back the whole 2 MB pages inside [data, data + bytes)
 /// with huge pages. Advice only: where the kernel has none (or the range

@@ -21,8 +21,8 @@ LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
         std::uint32_t face;
         std::uint8_t corner;
     };
-    std::vector<Slot> slots;
-    detail::reserve_huge(slots, 3 * face_count);
+    detail::HugeArray<Slot> slots;
+    slots.reserve(3 * face_count);
     for (std::uint32_t t = 0; t < face_count; ++t) {
         for (std::uint8_t i = 0; i < 3; ++i) {
             const std::uint32_t u = triangles[t][i], w = triangles[t][(i + 1) % 3];
@@ -32,7 +32,7 @@ LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
     std::sort(slots.begin(), slots.end(), [](const Slot& x, const Slot& y) {
         return std::tie(x.lo, x.hi, x.face, x.corner) < std::tie(y.lo, y.hi, y.face, y.corner);
     });
-    detail::assign_huge(face_edges_, 3 * face_count, std::uint32_t{0});
+    face_edges_.assign(3 * face_count, 0);
     for (std::size_t i = 0; i < slots.size();) {
         std::size_t j = i;
         while (j < slots.size() && slots[j].lo == slots[i].lo && slots[j].hi == slots[i].hi) ++j;
@@ -92,8 +92,8 @@ LevelTopology LevelTopology::refined(const LevelTopology& parent,
     const auto old_count = static_cast<std::uint32_t>(parent_vertex_count);
     const std::uint32_t parent_edges = parent.edge_count();
     const std::size_t face_count = children.size();
-    detail::resize_huge(topo.edges_, 2 * std::size_t{parent_edges} + 3 * parent_triangles.size());
-    detail::assign_huge(topo.face_edges_, 3 * face_count, std::uint32_t{0});
+    topo.edges_.resize(2 * std::size_t{parent_edges} + 3 * parent_triangles.size());
+    topo.face_edges_.assign(3 * face_count, 0);
 
     // Fills edge `id` {x, y} from its first and second child triangles
     // (slots as in the sorting constructor: first = lowest face index).
@@ -173,8 +173,8 @@ void LevelTopology::build_vertex_data(std::size_t vertex_count,
                                       const RefinedFrom* refined_from) {
     const std::size_t face_count = triangles.size();
     // Curves: the boundary and crease edges at each vertex.
-    detail::assign_huge(curve_count_, vertex_count, std::uint8_t{0});
-    detail::assign_huge(curve_nbr_, 2 * vertex_count, std::uint32_t{0});
+    curve_count_.assign(vertex_count, 0);
+    curve_nbr_.assign(2 * vertex_count, 0);
     for (const Edge& e : edges_) {
         if (!e.curve) continue;
         for (const auto& [v, w] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
@@ -184,21 +184,19 @@ void LevelTopology::build_vertex_data(std::size_t vertex_count,
     }
 
     // Rings: incident corner slots per vertex (CSR), then chained into fans.
-    std::vector<std::size_t>& inc_offsets = inc_offsets_;
-    detail::assign_huge(inc_offsets, vertex_count + 1, std::size_t{0});
+    detail::HugeArray<std::size_t>& inc_offsets = inc_offsets_;
+    inc_offsets.assign(vertex_count + 1, 0);
     for (const Triangle& t : triangles)
         for (std::uint32_t v : t) ++inc_offsets[v + 1];
     for (std::size_t v = 0; v < vertex_count; ++v) inc_offsets[v + 1] += inc_offsets[v];
-    detail::resize_huge(inc_slots_, inc_offsets.back());
-    std::vector<std::size_t> fill;
-    detail::reserve_huge(fill, vertex_count);
-    fill.assign(inc_offsets.begin(), inc_offsets.end() - 1);
+    inc_slots_.resize(inc_offsets.back());
+    detail::HugeArray<std::size_t> fill(inc_offsets.begin(), inc_offsets.end() - 1);
     for (std::uint32_t t = 0; t < face_count; ++t)
         for (std::uint32_t c = 0; c < 3; ++c) inc_slots_[fill[triangles[t][c]]++] = 3 * t + c;
 
     // Sectors, where creases pass.
-    detail::assign_huge(sector_labels_, vertex_count, {});
-    detail::assign_huge(single_sector_, vertex_count, std::uint8_t{1});
+    sector_labels_.assign(vertex_count, {});
+    single_sector_.assign(vertex_count, 1);
     if (!crease_masks.empty()) {
         std::vector<detail::FanCorner> corners;
         for (std::uint32_t v = 0; v < vertex_count; ++v) {
@@ -215,12 +213,12 @@ void LevelTopology::build_vertex_data(std::size_t vertex_count,
         }
     }
 
-    detail::assign_huge(ring_offsets_, vertex_count + 1, std::size_t{0});
-    detail::assign_huge(ring_closed_, vertex_count, std::uint8_t{0});
-    detail::assign_huge(ring_regular_, vertex_count, std::uint8_t{0});
-    detail::reserve_huge(ring_nbrs_, 3 * face_count);
-    detail::reserve_huge(ring_edges_, 3 * face_count);
-    detail::reserve_huge(ring_curve_, 3 * face_count);
+    ring_offsets_.assign(vertex_count + 1, 0);
+    ring_closed_.assign(vertex_count, 0);
+    ring_regular_.assign(vertex_count, 0);
+    ring_nbrs_.reserve(3 * face_count);
+    ring_edges_.reserve(3 * face_count);
+    ring_curve_.reserve(3 * face_count);
     std::vector<detail::FanPair<std::uint32_t>> pairs;
     detail::OrderedRing<std::uint32_t> ordered;
     const auto eq = [](std::uint32_t x, std::uint32_t y) { return x == y; };
@@ -327,11 +325,10 @@ namespace {
 
 /// Each corner's own angle-weighted normal (a triangle's three share one
 /// cross product), or the given one where `given` has it.
-std::vector<Vec3> weighted_corner_normals(const std::vector<Vec3>& positions,
-                                          const std::vector<Triangle>& triangles,
-                                          const std::vector<Vec3>& given) {
-    std::vector<Vec3> out;
-    detail::resize_huge(out, 3 * triangles.size());
+detail::HugeArray<Vec3> weighted_corner_normals(const std::vector<Vec3>& positions,
+                                                const std::vector<Triangle>& triangles,
+                                                const detail::HugeArray<Vec3>& given) {
+    detail::HugeArray<Vec3> out(3 * triangles.size());
     angle_weighted_corners(positions.data(), triangles.data(), triangles.size(), out.data());
     if (!given.empty())
         for (std::size_t slot = 0; slot < out.size(); ++slot)
@@ -341,10 +338,9 @@ std::vector<Vec3> weighted_corner_normals(const std::vector<Vec3>& positions,
 
 /// Per vertex, the normalised sum of its corners' normals, in triangle
 /// order (as the incidence lists run, so both give the same bits).
-std::vector<Vec3> vertex_sums(std::size_t vertex_count, const std::vector<Triangle>& triangles,
-                              const std::vector<Vec3>& corners) {
-    std::vector<Vec3> sums;
-    detail::assign_huge(sums, vertex_count, Vec3(0.0));
+detail::HugeArray<Vec3> vertex_sums(std::size_t vertex_count, const std::vector<Triangle>& triangles,
+                                    const detail::HugeArray<Vec3>& corners) {
+    detail::HugeArray<Vec3> sums(vertex_count, Vec3(0.0));
     for (std::size_t t = 0; t < triangles.size(); ++t)
         for (int c = 0; c < 3; ++c) sums[triangles[t][c]] += corners[3 * t + c];
     for (Vec3& sum : sums) sum = finish_normal(sum);
@@ -353,10 +349,10 @@ std::vector<Vec3> vertex_sums(std::size_t vertex_count, const std::vector<Triang
 
 }  // namespace
 
-std::vector<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& positions,
-                                               const std::vector<Triangle>& triangles,
-                                               const std::vector<Vec3>& given) const {
-    std::vector<Vec3> out = weighted_corner_normals(positions, triangles, given);
+detail::HugeArray<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& positions,
+                                                     const std::vector<Triangle>& triangles,
+                                                     const detail::HugeArray<Vec3>& given) const {
+    detail::HugeArray<Vec3> out = weighted_corner_normals(positions, triangles, given);
     // Vertices that creases split: a sum per sector, written back over the
     // corners it was summed from (each corner is read for its own vertex only).
     std::vector<Vec3> sums;
@@ -372,7 +368,7 @@ std::vector<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& positio
         for (std::size_t k = inc_offsets_[v]; k < inc_offsets_[v + 1]; ++k)
             out[inc_slots_[k]] = sums[labels[k - inc_offsets_[v]]];
     }
-    const std::vector<Vec3> smooth = vertex_sums(positions.size(), triangles, out);
+    const detail::HugeArray<Vec3> smooth = vertex_sums(positions.size(), triangles, out);
     for (std::size_t t = 0; t < triangles.size(); ++t)
         for (int c = 0; c < 3; ++c)
             if (single_sector_[triangles[t][c]]) out[3 * t + c] = smooth[triangles[t][c]];

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "huge_pages.h"
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
 
@@ -57,9 +58,9 @@ public:
     /// Per corner (3t + c): the vertex's normal over its sector, the
     /// triangles around it between creases. `given` (per corner, or empty)
     /// replaces the angle-weighted Gouraud sum where it is non-zero.
-    std::vector<Vec3> sector_normals(const std::vector<Vec3>& positions,
-                                     const std::vector<Triangle>& triangles,
-                                     const std::vector<Vec3>& given = {}) const;
+    detail::HugeArray<Vec3> sector_normals(const std::vector<Vec3>& positions,
+                                           const std::vector<Triangle>& triangles,
+                                           const detail::HugeArray<Vec3>& given = {}) const;
     /// Whether v's triangles form one sector (no crease splits them).
     bool single_sector(std::uint32_t v) const { return single_sector_[v] != 0; }
     /// Per neighbour of v's ring (fill_ring's order): its edge is a curve edge.
@@ -98,21 +99,22 @@ private:
     /// Appends v's ring as it follows from the parent level, if it does.
     bool append_refined_ring(const RefinedFrom& from, std::uint32_t v);
 
+    // Level-sized arrays: on huge pages (huge_pages.h).
     bool manifold_edges_ = true;
-    std::vector<Edge> edges_;
-    std::vector<std::uint32_t> face_edges_;
-    std::vector<std::size_t> ring_offsets_;
-    std::vector<std::uint32_t> ring_nbrs_;
-    std::vector<std::uint32_t> ring_edges_;  ///< per ring_nbrs_ entry: its edge
-    std::vector<std::uint8_t> ring_closed_;
-    std::vector<std::uint8_t> ring_regular_;
-    std::vector<std::uint8_t> ring_curve_;
-    std::vector<std::uint8_t> curve_count_;
-    std::vector<std::uint32_t> curve_nbr_;
-    std::vector<std::size_t> inc_offsets_;   ///< incident corner slots 3t + c, CSR
-    std::vector<std::uint32_t> inc_slots_;
-    std::vector<std::vector<std::uint32_t>> sector_labels_;  ///< per vertex, by incident slot; empty = one
-    std::vector<std::uint8_t> single_sector_;
+    detail::HugeArray<Edge> edges_;
+    detail::HugeArray<std::uint32_t> face_edges_;
+    detail::HugeArray<std::size_t> ring_offsets_;
+    detail::HugeArray<std::uint32_t> ring_nbrs_;
+    detail::HugeArray<std::uint32_t> ring_edges_;  ///< per ring_nbrs_ entry: its edge
+    detail::HugeArray<std::uint8_t> ring_closed_;
+    detail::HugeArray<std::uint8_t> ring_regular_;
+    detail::HugeArray<std::uint8_t> ring_curve_;
+    detail::HugeArray<std::uint8_t> curve_count_;
+    detail::HugeArray<std::uint32_t> curve_nbr_;
+    detail::HugeArray<std::size_t> inc_offsets_;   ///< incident corner slots 3t + c, CSR
+    detail::HugeArray<std::uint32_t> inc_slots_;
+    detail::HugeArray<std::vector<std::uint32_t>> sector_labels_;  ///< per vertex, by incident slot; empty = one
+    detail::HugeArray<std::uint8_t> single_sector_;
 };
 
 /// LevelTopology::sector_normals for a level without creases or given

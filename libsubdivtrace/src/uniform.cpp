@@ -23,17 +23,16 @@ namespace {
 /// What one level carries besides positions: per triangle its "down" flag
 /// and crease mask (bit e: edge e is a crease), and per corner its UV.
 struct LevelState {
-    std::vector<std::uint8_t> down;
+    detail::HugeArray<std::uint8_t> down;
     std::vector<std::uint8_t> creases;  ///< empty: the mesh has none
     std::vector<Vec2> corner_uvs;       ///< empty: the mesh has none
 };
 
 /// Given normals at the corners of this level (normal scheme): a base
 /// vertex's (index below the base count) in its base triangle, zero elsewhere.
-std::vector<Vec3> given_corner_normals(const Mesh& base, const std::vector<Triangle>& triangles,
-                                       int level) {
-    std::vector<Vec3> given;
-    detail::assign_huge(given, 3 * triangles.size(), Vec3(0.0));
+detail::HugeArray<Vec3> given_corner_normals(const Mesh& base, const std::vector<Triangle>& triangles,
+                                             int level) {
+    detail::HugeArray<Vec3> given(3 * triangles.size(), Vec3(0.0));
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const auto face = static_cast<std::uint32_t>(t >> (2 * level));
         for (int c = 0; c < 3; ++c)
@@ -49,14 +48,14 @@ bool given_at_level(const Mesh& base, const SchemeRules& scheme, int level, bool
 }
 
 /// The scheme's normals at each corner of one level.
-std::vector<Vec3> scheme_normals(const Mesh& base, const SchemeRules& scheme, const LevelTopology& topo,
-                                 const std::vector<Vec3>& positions,
-                                 const std::vector<Triangle>& triangles, int level,
-                                 bool given_every_level) {
+detail::HugeArray<Vec3> scheme_normals(const Mesh& base, const SchemeRules& scheme,
+                                       const LevelTopology& topo, const std::vector<Vec3>& positions,
+                                       const std::vector<Triangle>& triangles, int level,
+                                       bool given_every_level) {
     return topo.sector_normals(positions, triangles,
                                given_at_level(base, scheme, level, given_every_level)
                                    ? given_corner_normals(base, triangles, level)
-                                   : std::vector<Vec3>{});
+                                   : detail::HugeArray<Vec3>{});
 }
 
 /// One level of subdivision: positions of old vertices, then edge points,
@@ -68,10 +67,10 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
                     LevelState& state, std::optional<LevelTopology>& topo_slot,
                     bool child_topology) {
     const LevelTopology& topo = *topo_slot;
-    const std::vector<Vec3> normals =
+    const detail::HugeArray<Vec3> normals =
         scheme.edge_rule_reads_normals
             ? scheme_normals(base, scheme, topo, positions, triangles, level, given_every_level)
-            : std::vector<Vec3>{};
+            : detail::HugeArray<Vec3>{};
 
     // Positions of the old vertices (Loop moves them; interpolating schemes keep them).
     const std::size_t old_count = positions.size();
@@ -142,7 +141,7 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
     std::vector<Triangle> children;
     detail::reserve_huge(children, triangles.size() * 4);
     LevelState out;
-    detail::reserve_huge(out.down, triangles.size() * 4);
+    out.down.reserve(triangles.size() * 4);
     if (!state.creases.empty()) detail::reserve_huge(out.creases, triangles.size() * 4);
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const Triangle& tri = triangles[t];
@@ -241,13 +240,12 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind kind, int 
         // vertex, summed directly (no per-corner array).
         out.vertex_normals = smooth_vertex_normals(out.positions, out.triangles);
     } else {
-        const std::vector<Vec3> corners =
+        const detail::HugeArray<Vec3> corners =
             scheme_normals(mesh, scheme, *topo, out.positions, out.triangles, levels, given_every_level);
         // A vertex's first corner (in slot order) names its normal; the
         // corners that differ are kept apart.
         detail::assign_huge(out.vertex_normals, out.positions.size(), Vec3(0.0));
-        std::vector<std::uint8_t> named;
-        detail::assign_huge(named, out.positions.size(), std::uint8_t{0});
+        detail::HugeArray<std::uint8_t> named(out.positions.size(), 0);
         for (std::size_t slot = 0; slot < corners.size(); ++slot) {
             const std::uint32_t v = out.triangles[slot / 3][slot % 3];
             if (!named[v]) {
