@@ -3,8 +3,9 @@
 // 4 kB page at a time, each on a fault; on the virtual machines we measure
 // on a fault costs about 10 us, and uniform subdivision to level 4 (arrays
 // of 5-90 MB, each written once) spent more time in them than subdividing
-// (docs/benchmarks.md, "Huge pages"). Advised before its first write, a
-// large array faults once per 2 MB. Embree allocates its BVH the same way.
+// (docs/benchmarks.md, "Huge pages for uniform subdivision"). Advised
+// before its first write, a large array faults once per 2 MB. Embree
+// allocates its BVH the same way.
 //
 // Arrays of our own (a level's topology, scratch) take HugeArray, whose
 // large blocks are mappings of their own, aligned to 2 MB and advised
