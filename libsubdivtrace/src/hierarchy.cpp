@@ -330,7 +330,7 @@ void Hierarchy::child_shells(const NodeId& id, std::array<Shell, 4>& out) const 
 }
 
 void Hierarchy::children(const NodeId& id, std::array<NodeRecord, 4>& out) const {
-    impl_->front_tile(detail::tile_root_of(child_of(id, 0)))->children(id, out);
+    for (int c = 0; c < 4; ++c) out[c] = node(child_of(id, c));
 }
 
 HierarchyCounters Hierarchy::counters() const {

@@ -349,46 +349,6 @@ std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, const GridPoint& p
 }
 
 
-void Tile::children(const NodeId& parent, std::array<NodeRecord, 4>& out) const {
-    const int j = parent.level + 1 - root_.level;
-    if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
-    const TileLevel& level = levels_[j - 1];
-    // The six grid points of the children: the parent's corners and edge
-    // midpoints, at the children's level.
-    const auto g = node_corner_grid(parent);
-    const NodeId first = child_of(parent, 0);
-    GridPoint corner_grid[3], mid_grid[3];
-    std::size_t corner[3], mid[3];
-    for (int c = 0; c < 3; ++c) {
-        const int d = (c + 1) % 3;
-        corner_grid[c] = {2 * g[c][0], 2 * g[c][1]};
-        mid_grid[c] = {g[c][0] + g[d][0], g[c][1] + g[d][1]};
-        corner[c] = vertex_index(first, corner_grid[c][0], corner_grid[c][1]);
-        mid[c] = vertex_index(first, mid_grid[c][0], mid_grid[c][1]);
-    }
-    for (int c = 0; c < 4; ++c) {
-        const NodeId child = c == 0 ? first : child_of(parent, c);
-        const auto& map = child_corners(parent.down, c);
-        NodeRecord& rec = out[c];
-        const GridPoint* at[3];
-        std::size_t index[3];
-        for (int k = 0; k < 3; ++k) {
-            const std::size_t v = map[k].is_edge ? mid[map[k].index] : corner[map[k].index];
-            index[k] = v;
-            at[k] = map[k].is_edge ? &mid_grid[map[k].index] : &corner_grid[map[k].index];
-            set_corner(level, v, k, rec);
-        }
-        for (int k = 0; k < 3; ++k) {
-            // As edge_slot(), with both ends' indices already known.
-            const int l = (k + 1) % 3;
-            const GridEdge e = grid_edge(*at[k], *at[l]);
-            rec.edge_normal[k] =
-                glm::vec3(level.points()[e.p_first ? index[k] : index[l]].edge_normal[e.direction].vector());
-        }
-        rec.shell = level.shells()[index_in_level(child)].expand(origin_);
-    }
-}
-
 NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
     NodeRecord rec;
     const auto grid = node_corner_grid(id);

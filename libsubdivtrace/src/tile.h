@@ -189,9 +189,6 @@ public:
         return assemble(levels_[j - 1], id);
     }
 
-    /// The records of the four children of `parent` (whose children are in
-    /// this tile), in child_of order.
-    void children(const NodeId& parent, std::array<NodeRecord, 4>& out) const;
     /// The shells alone of those four children (what a ray tests before it
     /// asks for the record of one it enters), building their level first.
     void child_shells(const NodeId& parent, std::array<Shell, 4>& out) const {

@@ -106,7 +106,7 @@ public:
     NodeRecord node(const NodeId& id) const;
 
     /// The records of the four children of `id` (level < max_level), in
-    /// child_of order: one tile lookup for all four. Thread-safe.
+    /// child_of order (node() of each). Thread-safe.
     void children(const NodeId& id, std::array<NodeRecord, 4>& out) const;
     /// The shells of the four children of `id` alone (what a ray tests
     /// before it enters one), in child_of order.
