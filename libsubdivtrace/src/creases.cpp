@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "edge_sides.h"
 #include "subdivtrace/scheme.h"
 
 namespace subdivtrace::detail {
@@ -26,56 +27,29 @@ bool normals_split(const Vec3& n1, const Vec3& n2) {
 }
 
 std::vector<std::uint8_t> crease_masks(const Mesh& mesh) {
+    if (!mesh.has_normals()) return std::vector<std::uint8_t>(mesh.triangles.size(), 0);
+    return crease_masks(mesh, sorted_edge_sides(mesh.triangles, mesh.positions.size()));
+}
+
+std::vector<std::uint8_t> crease_masks(const Mesh& mesh, const HugeArray<EdgeSide>& sides) {
     std::vector<std::uint8_t> masks(mesh.triangles.size(), 0);
     if (!mesh.has_normals()) return masks;
-    // Each triangle's edges bucketed by their lower vertex (a counting sort:
-    // linear, where sorting all 3n edges took a tenth of a million-triangle
-    // surface's construction), then each bucket sorted by the upper vertex;
-    // a bucket holds about the vertex's valence.
-    struct Slot {
-        std::uint32_t hi, face;
-        std::uint8_t edge;
-    };
-    const std::size_t n_vertices = mesh.positions.size();
-    std::vector<std::uint32_t> start(n_vertices + 1, 0);
-    for (const Triangle& t : mesh.triangles)
-        for (int e = 0; e < 3; ++e) ++start[std::min(t[e], t[(e + 1) % 3]) + 1];
-    for (std::size_t v = 0; v < n_vertices; ++v) start[v + 1] += start[v];
-    std::vector<Slot> slots(3 * mesh.triangles.size());
-    {
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f)
-            for (std::uint8_t e = 0; e < 3; ++e) {
-                const std::uint32_t u = mesh.triangles[f][e], w = mesh.triangles[f][(e + 1) % 3];
-                slots[fill[std::min(u, w)]++] = {std::max(u, w), f, e};
-            }
-    }
     // The given normal at base vertex v in triangle f.
     const auto normal_at = [&](std::uint32_t f, std::uint32_t v) {
         const Triangle& t = mesh.triangles[f];
         const int c = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
         return mesh.corner_normals[3 * f + c];
     };
-    for (std::uint32_t lo = 0; lo < n_vertices; ++lo) {
-        const auto begin = slots.begin() + start[lo], end = slots.begin() + start[lo + 1];
-        std::sort(begin, end, [](const Slot& x, const Slot& y) {
-            return std::tie(x.hi, x.face, x.edge) < std::tie(y.hi, y.face, y.edge);
-        });
-        for (auto i = begin; i != end;) {
-            auto j = i;
-            while (j != end && j->hi == i->hi) ++j;
-            if (j - i == 2) {
-                const Slot& x = *i;
-                const Slot& y = *(i + 1);
-                if (normals_split(normal_at(x.face, lo), normal_at(y.face, lo)) ||
-                    normals_split(normal_at(x.face, x.hi), normal_at(y.face, x.hi))) {
-                    masks[x.face] |= static_cast<std::uint8_t>(1u << x.edge);
-                    masks[y.face] |= static_cast<std::uint8_t>(1u << y.edge);
-                }
-            }
-            i = j;
-        }
-    }
+    for_each_edge(sides, [&](const EdgeSide* first, const EdgeSide* last) {
+                      if (last - first != 2) return;
+                      const EdgeSide& x = first[0];
+                      const EdgeSide& y = first[1];
+                      if (normals_split(normal_at(x.face, x.lo), normal_at(y.face, x.lo)) ||
+                          normals_split(normal_at(x.face, x.hi), normal_at(y.face, x.hi))) {
+                          masks[x.face] |= static_cast<std::uint8_t>(1u << x.corner);
+                          masks[y.face] |= static_cast<std::uint8_t>(1u << y.corner);
+                      }
+                  });
     return masks;
 }
 

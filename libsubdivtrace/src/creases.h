@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "edge_sides.h"
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
 #include "subdivtrace/uniform.h"
@@ -17,6 +18,8 @@ namespace subdivtrace::detail {
 /// crease. All zero for a mesh without normals. Edges with one triangle are
 /// boundaries, not creases; edges with three or more are never creases.
 std::vector<std::uint8_t> crease_masks(const Mesh& mesh);
+/// The same from the mesh's sides (sorted_edge_sides), for a caller that has them.
+std::vector<std::uint8_t> crease_masks(const Mesh& mesh, const HugeArray<EdgeSide>& sides);
 
 /// The normal the mesh gives at base vertex `v` in triangle `face`
 /// (normalised; zero if the mesh gives none or v is not a corner of face).

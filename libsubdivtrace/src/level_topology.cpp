@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "creases.h"
+#include "edge_sides.h"
 #include "huge_pages.h"
 #include "ring_order.h"
 
@@ -15,54 +16,36 @@ LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
     const std::size_t vertex_count = positions.size();
     const std::size_t face_count = triangles.size();
 
-    // Edges: sort (min, max, corner slot) and give each distinct pair an id.
-    struct Slot {
-        std::uint32_t lo, hi;
-        std::uint32_t face;
-        std::uint8_t corner;
-    };
-    detail::HugeArray<Slot> slots;
-    slots.reserve(3 * face_count);
-    for (std::uint32_t t = 0; t < face_count; ++t) {
-        for (std::uint8_t i = 0; i < 3; ++i) {
-            const std::uint32_t u = triangles[t][i], w = triangles[t][(i + 1) % 3];
-            slots.push_back({std::min(u, w), std::max(u, w), t, i});
-        }
-    }
-    std::sort(slots.begin(), slots.end(), [](const Slot& x, const Slot& y) {
-        return std::tie(x.lo, x.hi, x.face, x.corner) < std::tie(y.lo, y.hi, y.face, y.corner);
-    });
+    // Edges: each distinct pair of the sorted sides gets an id.
+    const detail::HugeArray<detail::EdgeSide> sides = detail::sorted_edge_sides(triangles, vertex_count);
     face_edges_.assign(3 * face_count, 0);
-    for (std::size_t i = 0; i < slots.size();) {
-        std::size_t j = i;
-        while (j < slots.size() && slots[j].lo == slots[i].lo && slots[j].hi == slots[i].hi) ++j;
+    detail::for_each_edge(sides, [&](const detail::EdgeSide* first, const detail::EdgeSide* last) {
         Edge e;
-        const Triangle& first = triangles[slots[i].face];
-        e.a = first[slots[i].corner];
-        e.b = first[(slots[i].corner + 1) % 3];
-        e.c = first[(slots[i].corner + 2) % 3];
-        e.face_count = static_cast<std::uint32_t>(j - i);
+        const Triangle& first_face = triangles[first->face];
+        e.a = first_face[first->corner];
+        e.b = first_face[(first->corner + 1) % 3];
+        e.c = first_face[(first->corner + 2) % 3];
+        e.face_count = static_cast<std::uint32_t>(last - first);
         e.interior = e.face_count == 2;
-        e.face = slots[i].face;
-        e.corner = slots[i].corner;
+        e.face = first->face;
+        e.corner = first->corner;
         e.curve = e.face_count == 1;
         if (!crease_masks.empty() && e.face_count == 2)
-            for (std::size_t k = i; k < j; ++k)
-                e.curve = e.curve || (crease_masks[slots[k].face] >> slots[k].corner & 1u) != 0;
+            for (const detail::EdgeSide* s = first; s != last; ++s)
+                e.curve = e.curve || (crease_masks[s->face] >> s->corner & 1u) != 0;
         if (e.face_count >= 2) {
-            e.face2 = slots[i + 1].face;
-            e.corner2 = slots[i + 1].corner;
+            e.face2 = first[1].face;
+            e.corner2 = first[1].corner;
         }
         if (e.face_count > 2) manifold_edges_ = false;
         if (e.interior) {
-            const Triangle& second = triangles[slots[i + 1].face];
-            e.d = second[(slots[i + 1].corner + 2) % 3];
+            const Triangle& second = triangles[first[1].face];
+            e.d = second[(first[1].corner + 2) % 3];
         }
         const std::uint32_t id = static_cast<std::uint32_t>(edges_.size());
-        for (std::size_t k = i; k < j; ++k) face_edges_[3 * slots[k].face + slots[k].corner] = id;
+        for (const detail::EdgeSide* s = first; s != last; ++s) face_edges_[3 * s->face + s->corner] = id;
         edges_.push_back(e);
-        i = j;
-    }
+    });
     build_vertex_data(vertex_count, triangles, crease_masks, nullptr);
 }
 

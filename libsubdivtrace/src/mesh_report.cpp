@@ -2,14 +2,15 @@
 #include "subdivtrace/mesh_report.h"
 
 #include "creases.h"
+#include "edge_sides.h"
 #include "scheme_rules.h"
+#include "vertex_faces.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <unordered_map>
 
 namespace subdivtrace {
 
@@ -67,15 +68,6 @@ int orient2d_sign(const Vec3& a, const Vec3& b, const Vec3& c, int i, int j) {
     return e.back() > 0.0 ? 1 : -1;
 }
 
-struct EdgeInfo {
-    std::uint32_t faces = 0;
-};
-
-std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (std::uint64_t(a) << 32) | b;
-}
-
 std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
     while (parent[x] != x) {
         parent[x] = parent[parent[x]];
@@ -118,35 +110,30 @@ MeshReport analyze_mesh(const Mesh& mesh) {
     r.vertices = nv;
     r.faces = mesh.triangles.size();
     r.has_normals = mesh.has_normals();
-    for (std::uint8_t m : detail::crease_masks(mesh)) r.crease_edges += (m & 1u) + (m >> 1 & 1u) + (m >> 2 & 1u);
+    // Edges and the triangles on them.
+    const detail::HugeArray<detail::EdgeSide> sides = detail::sorted_edge_sides(mesh.triangles, nv);
+    for (std::uint8_t m : detail::crease_masks(mesh, sides)) r.crease_edges += (m & 1u) + (m >> 1 & 1u) + (m >> 2 & 1u);
     r.crease_edges /= 2;  // counted from both triangles
     r.has_uvs = mesh.has_uvs();
     r.bounds = mesh_bounds(mesh);
 
-    // Edges and the triangles on them.
-    std::unordered_map<std::uint64_t, EdgeInfo> edges;
-    edges.reserve(mesh.triangles.size() * 2);
-    std::vector<unsigned char> used(nv, 0);
-    for (const Triangle& t : mesh.triangles)
-        for (int k = 0; k < 3; ++k) {
-            used[t[k]] = 1;
-            ++edges[edge_key(t[k], t[(k + 1) % 3])].faces;
-        }
-    r.edges = edges.size();
     std::vector<int> valence(nv, 0);
     std::vector<unsigned char> on_nonmanifold(nv, 0);
-    for (const auto& [key, info] : edges) {
-        const auto a = static_cast<std::uint32_t>(key >> 32);
-        const auto b = static_cast<std::uint32_t>(key & 0xFFFFFFFFu);
-        ++valence[a];
-        ++valence[b];
-        if (info.faces == 1) ++r.boundary_edges;
-        if (info.faces > 2) {
+    detail::for_each_edge(sides, [&](const detail::EdgeSide* first, const detail::EdgeSide* last) {
+        ++r.edges;
+        ++valence[first->lo];
+        ++valence[first->hi];
+        const std::ptrdiff_t faces = last - first;
+        if (faces == 1) ++r.boundary_edges;
+        if (faces > 2) {
             ++r.nonmanifold_edges;
-            on_nonmanifold[a] = on_nonmanifold[b] = 1;
+            on_nonmanifold[first->lo] = on_nonmanifold[first->hi] = 1;
         }
-    }
-    r.closed = !edges.empty() && r.boundary_edges == 0 && r.nonmanifold_edges == 0;
+    });
+    std::vector<unsigned char> used(nv, 0);
+    for (const Triangle& t : mesh.triangles)
+        for (std::uint32_t v : t) used[v] = 1;
+    r.closed = r.edges > 0 && r.boundary_edges == 0 && r.nonmanifold_edges == 0;
 
     // Valences of the used vertices.
     bool first = true;
@@ -194,28 +181,28 @@ MeshReport analyze_mesh(const Mesh& mesh) {
 
     // Singular vertices: on a non-manifold edge, or whose triangles form more
     // than one fan (triangles around v joined through manifold edges at v).
-    std::vector<std::vector<std::uint32_t>> faces_of(nv);
-    for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
-        for (std::uint32_t v : mesh.triangles[f])
-            faces_of[v].push_back(static_cast<std::uint32_t>(f));
+    const detail::VertexFaces faces_of(mesh.triangles, nv);
     std::vector<std::uint32_t> local;
-    std::unordered_map<std::uint32_t, std::uint32_t> first_face_at;  // neighbour -> local face
+    // (neighbour, local face) for each triangle at v and each of its other corners.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> at_neighbour;
     for (std::size_t v = 0; v < nv; ++v) {
         if (!used[v]) continue;
         if (on_nonmanifold[v]) {
             ++r.singular_vertices;
             continue;
         }
-        const auto& fs = faces_of[v];
+        const detail::FaceRange fs = faces_of.faces_of(static_cast<std::uint32_t>(v));
         local.resize(fs.size());
         std::iota(local.begin(), local.end(), 0u);
-        first_face_at.clear();
+        at_neighbour.clear();
         for (std::uint32_t i = 0; i < fs.size(); ++i)
-            for (std::uint32_t w : mesh.triangles[fs[i]]) {
-                if (w == v) continue;
-                auto [it, inserted] = first_face_at.emplace(w, i);
-                if (!inserted) unite(local, it->second, i);
-            }
+            for (std::uint32_t w : mesh.triangles[fs[i]])
+                if (w != v) at_neighbour.emplace_back(w, i);
+        // The faces at one neighbour share the edge to it: one fan.
+        std::sort(at_neighbour.begin(), at_neighbour.end());
+        for (std::size_t k = 1; k < at_neighbour.size(); ++k)
+            if (at_neighbour[k].first == at_neighbour[k - 1].first)
+                unite(local, at_neighbour[k - 1].second, at_neighbour[k].second);
         std::size_t fans = 0;
         for (std::uint32_t i = 0; i < local.size(); ++i)
             if (find_root(local, i) == i) ++fans;
