@@ -1,11 +1,11 @@
 #include "creases.h"
 
 #include <algorithm>
-#include <numeric>
 #include <tuple>
 
 #include <glm/geometric.hpp>
 
+#include "disjoint_sets.h"
 #include "edge_sides.h"
 #include "subdivtrace/scheme.h"
 
@@ -55,12 +55,7 @@ std::vector<std::uint8_t> crease_masks(const Mesh& mesh, const HugeArray<EdgeSid
 
 std::uint32_t label_sectors(const std::vector<FanCorner>& corners, std::vector<std::uint32_t>& labels) {
     const std::size_t n = corners.size();
-    std::vector<std::uint32_t> parent(n);
-    std::iota(parent.begin(), parent.end(), 0u);
-    const auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
+    DisjointSets sectors(n);
     // Each edge at the centre, named by its other end, with the corners on it.
     struct Side {
         std::uint32_t nbr;
@@ -81,14 +76,14 @@ std::uint32_t label_sectors(const std::vector<FanCorner>& corners, std::vector<s
         const auto last = std::find_if(first, sides.end(),
                                        [&](const Side& s) { return s.nbr != first->nbr; });
         if (std::none_of(first, last, [](const Side& s) { return s.crease; }))
-            for (auto it = first + 1; it != last; ++it) parent[find(it->corner)] = find(first->corner);
+            for (auto it = first + 1; it != last; ++it) sectors.unite(first->corner, it->corner);
         first = last;
     }
     labels.assign(n, UINT32_MAX);
     std::vector<std::uint32_t> root_label(n, UINT32_MAX);
     std::uint32_t count = 0;
     for (std::size_t k = 0; k < n; ++k) {
-        const std::uint32_t r = find(static_cast<std::uint32_t>(k));
+        const std::uint32_t r = sectors.find(static_cast<std::uint32_t>(k));
         if (root_label[r] == UINT32_MAX) root_label[r] = count++;
         labels[k] = root_label[r];
     }

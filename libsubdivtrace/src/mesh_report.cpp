@@ -2,6 +2,7 @@
 #include "subdivtrace/mesh_report.h"
 
 #include "creases.h"
+#include "disjoint_sets.h"
 #include "edge_sides.h"
 #include "scheme_rules.h"
 #include "vertex_faces.h"
@@ -10,7 +11,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 namespace subdivtrace {
 
@@ -66,20 +66,6 @@ int orient2d_sign(const Vec3& a, const Vec3& b, const Vec3& c, int i, int j) {
     }
     if (e.empty()) return 0;
     return e.back() > 0.0 ? 1 : -1;
-}
-
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
-    a = find_root(parent, a);
-    b = find_root(parent, b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
 }
 
 }  // namespace
@@ -170,43 +156,35 @@ MeshReport analyze_mesh(const Mesh& mesh) {
     }
 
     // Connected components through shared vertices.
-    std::vector<std::uint32_t> parent(nv);
-    std::iota(parent.begin(), parent.end(), 0u);
+    detail::DisjointSets components(nv);
     for (const Triangle& t : mesh.triangles) {
-        unite(parent, t[0], t[1]);
-        unite(parent, t[0], t[2]);
+        components.unite(t[0], t[1]);
+        components.unite(t[0], t[2]);
     }
     for (std::size_t v = 0; v < nv; ++v)
-        if (used[v] && find_root(parent, static_cast<std::uint32_t>(v)) == v) ++r.components;
+        if (used[v] && components.find(static_cast<std::uint32_t>(v)) == v) ++r.components;
 
     // Singular vertices: on a non-manifold edge, or whose triangles form more
-    // than one fan (triangles around v joined through manifold edges at v).
+    // than one fan: the sectors of label_sectors with no crease.
     const detail::VertexFaces faces_of(mesh.triangles, nv);
-    std::vector<std::uint32_t> local;
-    // (neighbour, local face) for each triangle at v and each of its other corners.
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> at_neighbour;
-    for (std::size_t v = 0; v < nv; ++v) {
+    std::vector<detail::FanCorner> corners;
+    std::vector<std::uint32_t> labels;
+    for (std::uint32_t v = 0; v < nv; ++v) {
         if (!used[v]) continue;
         if (on_nonmanifold[v]) {
             ++r.singular_vertices;
             continue;
         }
-        const detail::FaceRange fs = faces_of.faces_of(static_cast<std::uint32_t>(v));
-        local.resize(fs.size());
-        std::iota(local.begin(), local.end(), 0u);
-        at_neighbour.clear();
-        for (std::uint32_t i = 0; i < fs.size(); ++i)
-            for (std::uint32_t w : mesh.triangles[fs[i]])
-                if (w != v) at_neighbour.emplace_back(w, i);
-        // The faces at one neighbour share the edge to it: one fan.
-        std::sort(at_neighbour.begin(), at_neighbour.end());
-        for (std::size_t k = 1; k < at_neighbour.size(); ++k)
-            if (at_neighbour[k].first == at_neighbour[k - 1].first)
-                unite(local, at_neighbour[k - 1].second, at_neighbour[k].second);
-        std::size_t fans = 0;
-        for (std::uint32_t i = 0; i < local.size(); ++i)
-            if (find_root(local, i) == i) ++fans;
-        if (fans > 1) ++r.singular_vertices;
+        corners.clear();
+        for (std::uint32_t f : faces_of.faces_of(v)) {
+            const Triangle& t = mesh.triangles[f];
+            const int c = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+            detail::FanCorner corner;
+            corner.prev = t[(c + 2) % 3];
+            corner.next = t[(c + 1) % 3];
+            corners.push_back(corner);
+        }
+        if (detail::label_sectors(corners, labels) > 1) ++r.singular_vertices;
     }
     return r;
 }
