@@ -3,6 +3,7 @@
 // opposite vertices, curves (boundaries and creases), ordered vertex rings,
 // and per-sector normals.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -63,6 +64,11 @@ public:
                                            const detail::HugeArray<Vec3>& given = {}) const;
     /// Whether v's triangles form one sector (no crease splits them).
     bool single_sector(std::uint32_t v) const { return single_sector_[v] != 0; }
+    /// Whether every vertex's triangles form one sector (no crease, no
+    /// bowtie): then each corner's sector normal is its vertex's.
+    bool one_sector_everywhere() const {
+        return std::all_of(single_sector_.begin(), single_sector_.end(), [](std::uint8_t s) { return s != 0; });
+    }
     /// Per neighbour of v's ring (fill_ring's order): its edge is a curve edge.
     const std::uint8_t* ring_curve(std::uint32_t v) const { return &ring_curve_[ring_offsets_[v]]; }
     /// A corner slot 3t + c of v.

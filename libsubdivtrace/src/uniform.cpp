@@ -47,15 +47,33 @@ bool given_at_level(const Mesh& base, const SchemeRules& scheme, int level, bool
     return scheme.takes_given_normals && base.has_normals() && (level == 0 || given_every_level);
 }
 
-/// The scheme's normals at each corner of one level.
-detail::HugeArray<Vec3> scheme_normals(const Mesh& base, const SchemeRules& scheme,
-                                       const LevelTopology& topo, const std::vector<Vec3>& positions,
-                                       const std::vector<Triangle>& triangles, int level,
-                                       bool given_every_level) {
-    return topo.sector_normals(positions, triangles,
-                               given_at_level(base, scheme, level, given_every_level)
-                                   ? given_corner_normals(base, triangles, level)
-                                   : detail::HugeArray<Vec3>{});
+/// A level's normals at triangle corners, as the edge rules read them. Where
+/// every vertex has one sector (no crease, no bowtie) and no given normal,
+/// a corner's normal is its vertex's: one per vertex (about 12 bytes a
+/// triangle), where one per corner wrote and read 72 bytes a triangle at
+/// every level. The same bits either way (smooth_vertex_normals).
+struct CornerNormals {
+    detail::HugeArray<Vec3> per_corner;  ///< 3t + c; empty when per_vertex holds them
+    std::vector<Vec3> per_vertex;
+    /// The normal at corner `slot` (3t + c), whose vertex is v.
+    const Vec3& at(std::size_t slot, std::uint32_t v) const {
+        return per_corner.empty() ? per_vertex[v] : per_corner[slot];
+    }
+    bool empty() const { return per_corner.empty() && per_vertex.empty(); }
+};
+
+/// The scheme's normals at the corners of one level.
+CornerNormals scheme_normals(const Mesh& base, const SchemeRules& scheme, const LevelTopology& topo,
+                             const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
+                             int level, bool given_every_level) {
+    CornerNormals normals;
+    const bool given = given_at_level(base, scheme, level, given_every_level);
+    if (!given && topo.one_sector_everywhere())
+        normals.per_vertex = smooth_vertex_normals(positions, triangles);
+    else
+        normals.per_corner = topo.sector_normals(
+            positions, triangles, given ? given_corner_normals(base, triangles, level) : detail::HugeArray<Vec3>{});
+    return normals;
 }
 
 /// One level of subdivision: positions of old vertices, then edge points,
@@ -67,10 +85,10 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
                     LevelState& state, std::optional<LevelTopology>& topo_slot,
                     bool child_topology) {
     const LevelTopology& topo = *topo_slot;
-    const detail::HugeArray<Vec3> normals =
+    const CornerNormals normals =
         scheme.edge_rule_reads_normals
             ? scheme_normals(base, scheme, topo, positions, triangles, level, given_every_level)
-            : detail::HugeArray<Vec3>{};
+            : CornerNormals{};
 
     // Positions of the old vertices (Loop moves them; interpolating schemes keep them).
     const std::size_t old_count = positions.size();
@@ -97,7 +115,7 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
             has_far = true;
             far = positions[topo.curve_nbr(v, topo.curve_nbr(v, 0) == other ? 1 : 0)];
         } else if (count == 1 && topo.single_sector(v) && !normals.empty()) {
-            normal = normals[topo.first_slot(v)];  // a dart: its one sector's normal
+            normal = normals.at(topo.first_slot(v), v);  // a dart: its one sector's normal
         }
     };
 
@@ -118,8 +136,10 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
             curve_end(edge.b, edge.a, stencil.has_b_far, stencil.b_far, stencil.normal_b);
         } else if (scheme.edge_rule_reads_normals) {
             // Both endpoints' normals in the sector of the edge's first triangle.
-            stencil.normal_a = normals[3 * edge.face + edge.corner];
-            stencil.normal_b = normals[3 * edge.face + (edge.corner + 1) % 3];
+            const std::size_t slot_a = 3 * edge.face + edge.corner;
+            const std::size_t slot_b = 3 * edge.face + (edge.corner + 1) % 3;
+            stencil.normal_a = normals.at(slot_a, triangles[edge.face][edge.corner]);
+            stencil.normal_b = normals.at(slot_b, triangles[edge.face][(edge.corner + 1) % 3]);
         }
         if (scheme.edge_rule_reads_rings) {
             topo.fill_ring(edge.a, positions, ring_a);
@@ -240,19 +260,24 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind kind, int 
         // vertex, summed directly (no per-corner array).
         out.vertex_normals = smooth_vertex_normals(out.positions, out.triangles);
     } else {
-        const detail::HugeArray<Vec3> corners =
+        CornerNormals normals =
             scheme_normals(mesh, scheme, *topo, out.positions, out.triangles, levels, given_every_level);
-        // A vertex's first corner (in slot order) names its normal; the
-        // corners that differ are kept apart.
-        detail::assign_huge(out.vertex_normals, out.positions.size(), Vec3(0.0));
-        detail::HugeArray<std::uint8_t> named(out.positions.size(), 0);
-        for (std::size_t slot = 0; slot < corners.size(); ++slot) {
-            const std::uint32_t v = out.triangles[slot / 3][slot % 3];
-            if (!named[v]) {
-                named[v] = 1;
-                out.vertex_normals[v] = corners[slot];
-            } else if (corners[slot] != out.vertex_normals[v]) {
-                out.split_corners.push_back({static_cast<std::uint32_t>(slot), corners[slot]});
+        if (normals.per_corner.empty()) {
+            out.vertex_normals = std::move(normals.per_vertex);
+        } else {
+            // A vertex's first corner (in slot order) names its normal; the
+            // corners that differ are kept apart.
+            const detail::HugeArray<Vec3>& corners = normals.per_corner;
+            detail::assign_huge(out.vertex_normals, out.positions.size(), Vec3(0.0));
+            detail::HugeArray<std::uint8_t> named(out.positions.size(), 0);
+            for (std::size_t slot = 0; slot < corners.size(); ++slot) {
+                const std::uint32_t v = out.triangles[slot / 3][slot % 3];
+                if (!named[v]) {
+                    named[v] = 1;
+                    out.vertex_normals[v] = corners[slot];
+                } else if (corners[slot] != out.vertex_normals[v]) {
+                    out.split_corners.push_back({static_cast<std::uint32_t>(slot), corners[slot]});
+                }
             }
         }
     }
