@@ -35,6 +35,30 @@ constexpr bool k_given_normals_every_level = false;
 SubdividedMesh subdivide_uniform(const Mesh& mesh, SchemeKind scheme, int levels,
                                  bool given_every_level);
 
+/// What lies beyond endpoint v of a curve edge (v, other) for the curve
+/// rules (docs/schemes.md, "Creases and boundaries"), from v's curve edges
+/// (`curve_count` of them, to `curve_nbr[0]` and `curve_nbr[1]`): the
+/// curve's next vertex where v has two curve edges, `other` one of them
+/// (the curve goes on); a dart's sector normal where v has one curve edge
+/// ending inside one smooth sector; else nothing (a corner of the curve).
+/// One rule for uniform levels and tiles.
+struct CurveEnd {
+    bool has_far = false;
+    std::uint32_t far = 0;  ///< the curve's next vertex, when has_far
+    bool dart = false;      ///< take v's one sector's normal
+};
+inline CurveEnd curve_end(int curve_count, const std::uint32_t* curve_nbr, std::uint32_t other,
+                          bool single_sector) {
+    CurveEnd end;
+    if (curve_count == 2 && (curve_nbr[0] == other || curve_nbr[1] == other)) {
+        end.has_far = true;
+        end.far = curve_nbr[0] == other ? curve_nbr[1] : curve_nbr[0];
+    } else {
+        end.dart = curve_count == 1 && single_sector;
+    }
+    return end;
+}
+
 /// Two given normals belong to different sides of a crease: their angle
 /// exceeds about 0.01 degrees (exporters round normals far below that).
 bool normals_split(const Vec3& n1, const Vec3& n2);

@@ -440,15 +440,10 @@ Vec3 Patch::edge_point(const SchemeRules& scheme, const PatchEdge& e) const {
 void Patch::fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,
                            Vec3& normal) const {
     const VertexDerived& d = derived[v];
-    has_far = false;
-    normal = Vec3(0.0);
-    if (d.curve_count == 2 && (d.curve[0] == other || d.curve[1] == other)) {
-        has_far = true;
-        far = verts[d.curve[0] == other ? d.curve[1] : d.curve[0]].position;
-    } else if (d.curve_count == 1 && d.single_sector) {
-        // A dart: the curve ends inside one smooth sector, whose normal it takes.
-        normal = corner_normal[incident_slots[incident_offsets[v]]];
-    }
+    const CurveEnd end = curve_end(d.curve_count, d.curve, other, d.single_sector);
+    has_far = end.has_far;
+    if (has_far) far = verts[end.far].position;
+    normal = end.dart ? corner_normal[incident_slots[incident_offsets[v]]] : Vec3(0.0);
 }
 
 void Patch::compute_normal(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v) {

@@ -105,18 +105,14 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
         }
     }
 
-    // The curve beyond endpoint v of curve edge (v, other), as patch.cpp.
+    // The curve beyond endpoint v of curve edge (v, other).
     const auto curve_end = [&](std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,
                                Vec3& normal) {
-        has_far = false;
-        normal = Vec3(0.0);
-        const int count = topo.curve_count(v);
-        if (count == 2 && (topo.curve_nbr(v, 0) == other || topo.curve_nbr(v, 1) == other)) {
-            has_far = true;
-            far = positions[topo.curve_nbr(v, topo.curve_nbr(v, 0) == other ? 1 : 0)];
-        } else if (count == 1 && topo.single_sector(v) && !normals.empty()) {
-            normal = normals.at(topo.first_slot(v), v);  // a dart: its one sector's normal
-        }
+        const std::uint32_t nbr[2] = {topo.curve_nbr(v, 0), topo.curve_nbr(v, 1)};
+        const detail::CurveEnd end = detail::curve_end(topo.curve_count(v), nbr, other, topo.single_sector(v));
+        has_far = end.has_far;
+        if (has_far) far = positions[end.far];
+        normal = end.dart && !normals.empty() ? normals.at(topo.first_slot(v), v) : Vec3(0.0);
     };
 
     // Edge points.
