@@ -8,6 +8,7 @@
 #include "disjoint_sets.h"
 #include "edge_sides.h"
 #include "subdivtrace/scheme.h"
+#include "vertex_faces.h"
 
 namespace subdivtrace::detail {
 
@@ -36,9 +37,7 @@ std::vector<std::uint8_t> crease_masks(const Mesh& mesh, const HugeArray<EdgeSid
     if (!mesh.has_normals()) return masks;
     // The given normal at base vertex v in triangle f.
     const auto normal_at = [&](std::uint32_t f, std::uint32_t v) {
-        const Triangle& t = mesh.triangles[f];
-        const int c = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-        return mesh.corner_normals[3 * f + c];
+        return mesh.corner_normals[3 * f + corner_of(mesh.triangles[f], v)];
     };
     for_each_edge(sides, [&](const EdgeSide* first, const EdgeSide* last) {
                       if (last - first != 2) return;

@@ -1,12 +1,12 @@
 #include "level_topology.h"
 
 #include <algorithm>
-#include <tuple>
 
 #include "creases.h"
 #include "edge_sides.h"
 #include "huge_pages.h"
 #include "ring_order.h"
+#include "vertex_faces.h"
 
 namespace subdivtrace {
 
@@ -60,10 +60,6 @@ std::uint8_t slot_of(const Triangle& t, std::uint32_t x, std::uint32_t y) {
     return 0;
 }
 
-std::uint8_t corner_of(const Triangle& t, std::uint32_t v) {
-    return t[0] == v ? 0 : t[1] == v ? 1 : 2;
-}
-
 }  // namespace
 
 LevelTopology LevelTopology::refined(const LevelTopology& parent,
@@ -110,9 +106,9 @@ LevelTopology LevelTopology::refined(const LevelTopology& parent,
         const std::uint32_t m = old_count + pe;
         for (int half = 0; half < 2; ++half) {
             const std::uint32_t end = half == 0 ? e.a : e.b;
-            const std::uint32_t first = 4 * e.face + corner_of(parent_triangles[e.face], end);
+            const std::uint32_t first = 4 * e.face + detail::corner_of(parent_triangles[e.face], end);
             const std::uint32_t second =
-                e.face_count >= 2 ? 4 * e.face2 + corner_of(parent_triangles[e.face2], end) : 0;
+                e.face_count >= 2 ? 4 * e.face2 + detail::corner_of(parent_triangles[e.face2], end) : 0;
             set_edge(2 * pe + half, first, second, end, m, e.face_count, e.curve);
         }
     }

@@ -178,7 +178,7 @@ MeshReport analyze_mesh(const Mesh& mesh) {
         corners.clear();
         for (std::uint32_t f : faces_of.faces_of(v)) {
             const Triangle& t = mesh.triangles[f];
-            const int c = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+            const int c = detail::corner_of(t, v);
             detail::FanCorner corner;
             corner.prev = t[(c + 2) % 3];
             corner.next = t[(c + 1) % 3];

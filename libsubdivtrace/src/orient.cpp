@@ -9,11 +9,6 @@ namespace {
 
 constexpr std::uint32_t k_none = ~std::uint32_t{0};
 
-/// Position of `v` among t's corners (t holds it).
-int corner_of(const Triangle& t, std::uint32_t v) {
-    return t[0] == v ? 0 : t[1] == v ? 1 : 2;
-}
-
 }  // namespace
 
 Orientation consistent_orientation(const std::vector<Triangle>& triangles,
@@ -33,7 +28,7 @@ Orientation consistent_orientation(const std::vector<Triangle>& triangles,
         at.for_each_face_of_edge(triangles, a, b, [&](std::uint32_t u) {
             if (u == t || ++count > 1) return;
             found = u;
-            same_way = triangles[u][(corner_of(triangles[u], a) + 1) % 3] == b;  // u also runs a -> b
+            same_way = triangles[u][(detail::corner_of(triangles[u], a) + 1) % 3] == b;  // u also runs a -> b
         });
         return count == 1 ? found : k_none;  // a non-manifold edge joins nothing
     };

@@ -11,6 +11,9 @@
 
 namespace subdivtrace::detail {
 
+/// Position of `v` among t's corners (t holds it).
+inline int corner_of(const Triangle& t, std::uint32_t v) { return t[0] == v ? 0 : t[1] == v ? 1 : 2; }
+
 /// The faces around one vertex: a view into VertexFaces' flat arrays (valid
 /// while they live), in increasing face order.
 class FaceRange {
