@@ -40,15 +40,15 @@ std::vector<std::uint8_t> crease_masks(const Mesh& mesh, const HugeArray<EdgeSid
         return mesh.corner_normals[3 * f + corner_of(mesh.triangles[f], v)];
     };
     for_each_edge(sides, [&](const EdgeSide* first, const EdgeSide* last) {
-                      if (last - first != 2) return;
-                      const EdgeSide& x = first[0];
-                      const EdgeSide& y = first[1];
-                      if (normals_split(normal_at(x.face, x.lo), normal_at(y.face, x.lo)) ||
-                          normals_split(normal_at(x.face, x.hi), normal_at(y.face, x.hi))) {
-                          masks[x.face] |= static_cast<std::uint8_t>(1u << x.corner);
-                          masks[y.face] |= static_cast<std::uint8_t>(1u << y.corner);
-                      }
-                  });
+        if (last - first != 2) return;
+        const EdgeSide& x = first[0];
+        const EdgeSide& y = first[1];
+        if (normals_split(normal_at(x.face, x.lo), normal_at(y.face, x.lo)) ||
+            normals_split(normal_at(x.face, x.hi), normal_at(y.face, x.hi))) {
+            masks[x.face] |= static_cast<std::uint8_t>(1u << x.corner);
+            masks[y.face] |= static_cast<std::uint8_t>(1u << y.corner);
+        }
+    });
     return masks;
 }
 

@@ -116,15 +116,14 @@ MeshReport analyze_mesh(const Mesh& mesh) {
             on_nonmanifold[first->lo] = on_nonmanifold[first->hi] = 1;
         }
     });
-    std::vector<unsigned char> used(nv, 0);
-    for (const Triangle& t : mesh.triangles)
-        for (std::uint32_t v : t) used[v] = 1;
+    // A vertex some triangle holds has an edge there: used iff valence > 0.
+    const auto used = [&](std::size_t v) { return valence[v] > 0; };
     r.closed = r.edges > 0 && r.boundary_edges == 0 && r.nonmanifold_edges == 0;
 
     // Valences of the used vertices.
     bool first = true;
     for (std::size_t v = 0; v < nv; ++v) {
-        if (!used[v]) {
+        if (!used(v)) {
             ++r.unreferenced_vertices;
             continue;
         }
@@ -162,7 +161,7 @@ MeshReport analyze_mesh(const Mesh& mesh) {
         components.unite(t[0], t[2]);
     }
     for (std::size_t v = 0; v < nv; ++v)
-        if (used[v] && components.find(static_cast<std::uint32_t>(v)) == v) ++r.components;
+        if (used(v) && components.find(static_cast<std::uint32_t>(v)) == v) ++r.components;
 
     // Singular vertices: on a non-manifold edge, or whose triangles form more
     // than one fan: the sectors of label_sectors with no crease.
@@ -170,7 +169,7 @@ MeshReport analyze_mesh(const Mesh& mesh) {
     std::vector<detail::FanCorner> corners;
     std::vector<std::uint32_t> labels;
     for (std::uint32_t v = 0; v < nv; ++v) {
-        if (!used[v]) continue;
+        if (!used(v)) continue;
         if (on_nonmanifold[v]) {
             ++r.singular_vertices;
             continue;
