@@ -86,6 +86,11 @@ public:
     /// Position of w in v's ring (0 if absent).
     std::size_t ring_index(std::uint32_t v, std::uint32_t w) const;
     bool ring_closed(std::uint32_t v) const { return ring_closed_[v] != 0; }
+    /// Whether v's ring is whole, manifold, of valence 6 and in one sector:
+    /// an endpoint of a detail::RegularEdge.
+    bool regular_six(std::uint32_t v) const {
+        return ring_closed_[v] != 0 && ring_regular_[v] != 0 && valence(v) == 6 && single_sector_[v] != 0;
+    }
     bool ring_regular(std::uint32_t v) const { return ring_regular_[v] != 0; }
     std::size_t valence(std::uint32_t v) const { return ring_offsets_[v + 1] - ring_offsets_[v]; }
 

@@ -417,6 +417,17 @@ Vec3 Patch::edge_point(const SchemeRules& scheme, const PatchEdge& e) const {
         s.c = verts[first_is_c ? third[0] : third[1]].position;
         s.d = verts[first_is_c ? third[1] : third[0]].position;
     }
+    if (scheme.edge_rule_reads_rings && s.interior && !s.curve && scheme.regular_edge_rule != nullptr &&
+        regular_six(e.a) && regular_six(e.b)) {
+        // The wings by ring index, without filling either ring.
+        const std::uint32_t* ring_a = &ring_nbrs[rings[e.a].offset];
+        const std::uint32_t* ring_b = &ring_nbrs[rings[e.b].offset];
+        const std::size_t i_b = std::find(ring_a, ring_a + 6, e.b) - ring_a;
+        const std::size_t i_a = std::find(ring_b, ring_b + 6, e.a) - ring_b;
+        const auto at = [&](const std::uint32_t* ring, std::size_t k) { return verts[ring[k % 6]].position; };
+        return scheme.regular_edge_rule(
+            {s.a, s.b, s.c, s.d, at(ring_b, i_a + 4), at(ring_a, i_b + 2), at(ring_b, i_a + 2), at(ring_a, i_b + 4)});
+    }
     if (scheme.edge_rule_reads_rings) {
         // Kept by the thread so an edge's rings reuse their arrays, and only
         // schemes that read rings build them.

@@ -197,6 +197,12 @@ public:
     void keep_only(const Flags& keep) { trim_to(keep); }
 
     void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
+    /// Whether v's ring is whole, manifold, of valence 6 and in one sector:
+    /// an endpoint of a RegularEdge (after finish()).
+    bool regular_six(std::uint32_t v) const {
+        const Ring& r = rings[v];
+        return derived[v].has_ring && r.closed && r.regular && r.count == 6 && derived[v].single_sector;
+    }
 
     /// Where leaves draw vertex v (valid where verts[v].has_draw).
     const Vec3& drawn_at(std::uint32_t v) const { return draw.empty() ? verts[v].position : draw[v]; }

@@ -221,6 +221,17 @@ Vec3 loop_edge_point(const EdgeStencil& s) {
     return ((s.a + s.b) * 3.0 + s.c + s.d) * (1.0 / 8.0);
 }
 
+namespace {
+
+/// The 8-point butterfly (1/2, 1/8, -1/16): butterfly_edge_point's regular
+/// case, and the whole rule on a RegularEdge.
+Vec3 butterfly_regular_edge_point(const detail::RegularEdge& e) {
+    const Vec3 wings = e.w_bc + e.w_ac + e.w_bd + e.w_ad;
+    return (e.a + e.b) * 0.5 + (e.c + e.d) * (1.0 / 8.0) + wings * (-1.0 / 16.0);
+}
+
+}  // namespace
+
 Vec3 butterfly_edge_point(const EdgeStencil& s) {
     const VertexRing* ra = s.ring_a;
     const VertexRing* rb = s.ring_b;
@@ -240,16 +251,16 @@ Vec3 butterfly_edge_point(const EdgeStencil& s) {
     const bool b_extraordinary = !b_boundary && vb != 6 && vb >= 3;
 
     if (!a_extraordinary && !b_extraordinary) {
-        // Regular case: the 8-point butterfly (1/2, 1/8, -1/16).
+        // Regular case: the 8-point butterfly, with mirrored wings where a
+        // ring is open or missing.
         const Vec3* w_ac = ra ? ring_step(*ra, s.index_b_in_a, 2) : nullptr;
         const Vec3* w_ad = ra ? ring_step(*ra, s.index_b_in_a, -2) : nullptr;
         const Vec3* w_bd = rb ? ring_step(*rb, s.index_a_in_b, 2) : nullptr;
         const Vec3* w_bc = rb ? ring_step(*rb, s.index_a_in_b, -2) : nullptr;
-        const Vec3 wings = wing_or_mirror(w_bc, s.b, s.c, s.a) +
-                           wing_or_mirror(w_ac, s.a, s.c, s.b) +
-                           wing_or_mirror(w_bd, s.b, s.d, s.a) +
-                           wing_or_mirror(w_ad, s.a, s.d, s.b);
-        return (s.a + s.b) * 0.5 + (s.c + s.d) * (1.0 / 8.0) + wings * (-1.0 / 16.0);
+        return butterfly_regular_edge_point({s.a, s.b, s.c, s.d, wing_or_mirror(w_bc, s.b, s.c, s.a),
+                                             wing_or_mirror(w_ac, s.a, s.c, s.b),
+                                             wing_or_mirror(w_bd, s.b, s.d, s.a),
+                                             wing_or_mirror(w_ad, s.a, s.d, s.b)});
     }
 
     // At least one extraordinary interior endpoint: its stencil, averaged over
@@ -276,15 +287,15 @@ Vec3 normal_scheme_edge_point(const EdgeStencil& s) {
 }
 
 constexpr detail::SchemeRules k_normal_rules{
-    SchemeKind::normal, "normal", nullptr, normal_scheme_edge_point, normal_edge_point, nullptr, nullptr,
+    SchemeKind::normal, "normal", nullptr, normal_scheme_edge_point, normal_edge_point, nullptr, nullptr, nullptr,
     /*edge_rule_reads_normals=*/true, /*edge_rule_reads_opposites=*/false,
     /*edge_rule_reads_rings=*/false, /*convex_rules=*/false, /*takes_given_normals=*/true};
 constexpr detail::SchemeRules k_loop_rules{
-    SchemeKind::loop, "loop", loop_vertex_point, loop_edge_point, nullptr, loop_limit_point, loop_limit_normal,
+    SchemeKind::loop, "loop", loop_vertex_point, loop_edge_point, nullptr, nullptr, loop_limit_point, loop_limit_normal,
     /*edge_rule_reads_normals=*/false, /*edge_rule_reads_opposites=*/true,
     /*edge_rule_reads_rings=*/false, /*convex_rules=*/true, /*takes_given_normals=*/false};
 constexpr detail::SchemeRules k_butterfly_rules{
-    SchemeKind::butterfly, "butterfly", nullptr, butterfly_edge_point, nullptr, nullptr, nullptr,
+    SchemeKind::butterfly, "butterfly", nullptr, butterfly_edge_point, nullptr, butterfly_regular_edge_point, nullptr, nullptr,
     /*edge_rule_reads_normals=*/false, /*edge_rule_reads_opposites=*/true,
     /*edge_rule_reads_rings=*/true, /*convex_rules=*/false, /*takes_given_normals=*/false};
 

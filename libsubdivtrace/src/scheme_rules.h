@@ -11,6 +11,19 @@
 
 namespace subdivtrace::detail {
 
+/// An edge both of whose endpoints have whole rings of valence 6 in one
+/// sector (closed, manifold, no crease through them), the case of almost
+/// every edge below level 0: its stencil is fixed points found by index
+/// (ring position +-2 from the other endpoint), with nothing to copy or test.
+struct RegularEdge {
+    Vec3 a, b;  ///< endpoints
+    Vec3 c, d;  ///< third vertices of the triangles a -> b (c) and b -> a (d)
+    /// The wings: across edge (b, c) from a, (a, c) from b, (b, d) from a and
+    /// (a, d) from b, as ring_b[i_a - 2], ring_a[i_b + 2], ring_b[i_a + 2] and
+    /// ring_a[i_b - 2] (EdgeStencil's rings, i_x the index of x in the other's).
+    Vec3 w_bc, w_ac, w_bd, w_ad;
+};
+
 struct SchemeRules {
     SchemeKind kind;
     /// As scene files and the command line name it.
@@ -24,6 +37,10 @@ struct SchemeRules {
     /// the endpoints and their normals in the edge's sector (the normal
     /// scheme), so a patch need not fill a whole stencil; else null.
     Vec3 (*smooth_edge_rule)(const Vec3& a, const Vec3& b, const Vec3& normal_a, const Vec3& normal_b);
+    /// The edge rule on a RegularEdge, with the bits edge_rule gives it, for
+    /// schemes whose edge rule reads rings (Butterfly), so levels need not
+    /// fill them; null where edge_rule reads no rings (it is cheap as it is).
+    Vec3 (*regular_edge_rule)(const RegularEdge&);
     /// Where a vertex is drawn, from its birth-level ring (its limit point);
     /// null where the level's own position is drawn (it lies on the limit).
     Vec3 (*drawn_point)(const VertexRing&);

@@ -119,6 +119,16 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
     EdgeStencil stencil;
     for (std::uint32_t e = 0; e < topo.edge_count(); ++e) {
         const LevelTopology::Edge& edge = topo.edge(e);
+        if (scheme.regular_edge_rule && edge.interior && !edge.curve && topo.regular_six(edge.a) &&
+            topo.regular_six(edge.b)) {
+            // The wings by ring index, without filling either ring.
+            const std::size_t i_b = topo.ring_index(edge.a, edge.b), i_a = topo.ring_index(edge.b, edge.a);
+            const auto at = [&](std::uint32_t v, std::size_t k) { return positions[topo.ring_neighbour(v, k % 6)]; };
+            next[old_count + e] = scheme.regular_edge_rule(
+                {positions[edge.a], positions[edge.b], positions[edge.c], positions[edge.d], at(edge.b, i_a + 4),
+                 at(edge.a, i_b + 2), at(edge.b, i_a + 2), at(edge.a, i_b + 4)});
+            continue;
+        }
         stencil.a = positions[edge.a];
         stencil.b = positions[edge.b];
         stencil.interior = edge.interior;

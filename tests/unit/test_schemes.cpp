@@ -20,6 +20,7 @@
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 
+#include "scheme_rules.h"
 #include "subdivtrace/uniform.h"
 #include "unit/openmesh_subdivide.h"
 #include "unit/reference_subdivision.h"
@@ -664,6 +665,54 @@ TEST_CASE("boundary rules: Loop (1,6,1)/8 and midpoints, Butterfly 4-point", "[s
     CHECK(butterfly.positions[grid_index(n, 0, 3)] == p(0, 3));
 }
 
+
+TEST_CASE("a scheme's rule on a regular edge gives its general edge rule's bits", "[schemes][regular]") {
+    // Two valence-6 rings in the order levels keep them: b at i_b in a's
+    // ring, a at i_a in b's, c after b around a, d after a around b.
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> coord(-1.0, 1.0);
+    const auto random_point = [&] { return Vec3(coord(rng), coord(rng), coord(rng)); };
+    int compared = 0;
+    for (SchemeKind kind : k_all_schemes) {
+        const detail::SchemeRules& rules = detail::rules_of(kind);
+        // Only schemes whose edge rule reads rings have (and need) one.
+        CHECK((rules.regular_edge_rule != nullptr) == rules.edge_rule_reads_rings);
+        if (!rules.regular_edge_rule) continue;
+        for (int trial = 0; trial < 2000; ++trial) {
+            const std::size_t i_b = rng() % 6, i_a = rng() % 6;
+            VertexRing ring_a, ring_b;
+            ring_a.center = random_point();
+            ring_b.center = random_point();
+            ring_a.closed = ring_b.closed = true;
+            for (int k = 0; k < 6; ++k) {
+                ring_a.nbrs.push_back(random_point());
+                ring_b.nbrs.push_back(random_point());
+            }
+            ring_a.nbrs[i_b] = ring_b.center;
+            ring_b.nbrs[i_a] = ring_a.center;
+            ring_b.nbrs[(i_a + 5) % 6] = ring_a.nbrs[(i_b + 1) % 6];  // c
+            ring_a.nbrs[(i_b + 5) % 6] = ring_b.nbrs[(i_a + 1) % 6];  // d
+            EdgeStencil s;
+            s.a = ring_a.center;
+            s.b = ring_b.center;
+            s.interior = true;
+            s.c = ring_a.nbrs[(i_b + 1) % 6];
+            s.d = ring_b.nbrs[(i_a + 1) % 6];
+            s.ring_a = &ring_a;
+            s.ring_b = &ring_b;
+            s.index_b_in_a = i_b;
+            s.index_a_in_b = i_a;
+            const detail::RegularEdge e{s.a, s.b, s.c, s.d, ring_b.nbrs[(i_a + 4) % 6],
+                                        ring_a.nbrs[(i_b + 2) % 6], ring_b.nbrs[(i_a + 2) % 6],
+                                        ring_a.nbrs[(i_b + 4) % 6]};
+            const Vec3 general = rules.edge_rule(s), regular = rules.regular_edge_rule(e);
+            INFO(scheme_name(kind) << " trial " << trial);
+            REQUIRE(general == regular);
+            ++compared;
+        }
+    }
+    CHECK(compared == 2000);
+}
 
 TEST_CASE("Loop's limit normal: the plane's normal for a flat ring, and the tangent masks at every valence",
           "[schemes][loop]") {
