@@ -66,7 +66,8 @@ Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const
     Shell shell;
     Vec3 axis = finish_normal(
         glm::cross(rec.position[1] - rec.position[0], rec.position[2] - rec.position[0]));
-    if (axis == Vec3(0.0)) axis = finish_normal(rec.normal[0] + rec.normal[1] + rec.normal[2]);
+    if (axis == Vec3(0.0))
+        axis = finish_normal(p.corner_normal[3 * t] + p.corner_normal[3 * t + 1] + p.corner_normal[3 * t + 2]);
     // Rounded to float first: the compact shell stores this very axis.
     shell.axis = shell_kind == ShellKind::aabb_slab ? Vec3(glm::vec3(axis)) : Vec3(0.0);
     if (shell.axis != Vec3(0.0)) shell.slab_min = shell.slab_max = glm::dot(shell.axis, rec.position[0]);

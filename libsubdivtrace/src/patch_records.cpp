@@ -164,9 +164,8 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
         const VertexDerived& d = p.derived[tri.v[c]];
         if (!d.has_normal || !v.has_draw) stencil_cut("a corner's normal or drawn position");
         rec.position[c] = v.position;
-        rec.normal[c] = p.corner_normal[3 * t + c];
         rec.draw_position[c] = p.drawn_at(tri.v[c]);
-        rec.shading_normal[c] = quadratic ? shading_normal(ctx, p, *next, t, c, memo) : rec.normal[c];
+        rec.shading_normal[c] = quadratic ? shading_normal(ctx, p, *next, t, c, memo) : p.corner_normal[3 * t + c];
         if (refinable && !d.has_displacement) stencil_cut("an edge point next to a corner");
         rec.displacement[c] = refinable ? round_up(d.displacement) : 0.0f;
     }

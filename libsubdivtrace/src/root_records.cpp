@@ -86,10 +86,10 @@ void RootRecords::build_chunk(const TileContext& ctx, std::size_t first, std::si
         for (int c = 0; c < 3; ++c) {
             const std::uint32_t v = p.verts[p.tris[t].v[c]].key.a;
             const std::uint32_t slot = 3 * f + static_cast<std::uint32_t>(c);
-            const SplitCorner corner{slot, rec.normal[c], glm::vec3(rec.shading_normal[c])};
+            const SplitCorner corner{slot, p.corner_normal[3 * t + c], glm::vec3(rec.shading_normal[c])};
             const std::uint32_t first_face = ctx.topo.faces_of_vertex(v)[0];
             if (f == first_face) {
-                normal_[v] = rec.normal[c];
+                normal_[v] = corner.normal;
                 shading_[v] = corner.shading;
                 displacement_[v] = rec.displacement[c];
                 if (!draw_.empty()) draw_[v] = rec.draw_position[c];
@@ -135,7 +135,6 @@ NodeRecord RootRecords::record(std::uint32_t face) const {
     const Triangle& t = mesh_->triangles[face];
     for (int c = 0; c < 3; ++c) {
         rec.position[c] = mesh_->positions[t[c]];
-        rec.normal[c] = normal_[t[c]];
         rec.shading_normal[c] = Vec3(shading_[t[c]]);
         rec.displacement[c] = displacement_[t[c]];
         rec.draw_position[c] = draw_.empty() ? rec.position[c] : draw_[t[c]];
@@ -145,7 +144,6 @@ NodeRecord RootRecords::record(std::uint32_t face) const {
     if (!split_corners_.empty()) {
         const auto [lo, hi] = splits_of(face);
         for (const SplitCorner* it = lo; it != hi; ++it) {
-            rec.normal[it->slot - 3 * face] = it->normal;
             rec.shading_normal[it->slot - 3 * face] = Vec3(it->shading);
         }
     }

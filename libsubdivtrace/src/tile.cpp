@@ -49,7 +49,6 @@ private:
 void set_corner(const TileLevel& level, std::size_t v, int k, NodeRecord& rec) {
     const TilePoint& point = level.points()[v];
     rec.position[k] = point.position;
-    rec.normal[k] = point.normal;
     rec.shading_normal[k] = point.shading.vector();
     rec.displacement[k] = point.displacement;
     const Vec3* draw = level.draw();
@@ -321,7 +320,6 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
             const std::size_t v = vertex_index(tri.id, grid[c][0], grid[c][1]);
             TilePoint& point = points[v];
             point.position = rec.position[c];
-            point.normal = rec.normal[c];
             point.shading = OctahedralNormal::from(rec.shading_normal[c]);
             point.displacement = rec.displacement[c];
             if (draw) draw[v] = rec.draw_position[c];

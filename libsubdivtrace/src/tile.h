@@ -115,12 +115,12 @@ std::vector<NodeId> tile_group_of(const NodeId& root);
 Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots);
 
 /// What a tile keeps of one grid point of a level: a node record's corner
-/// values (NodeRecord), together, as a ray reads them together. The normals
-/// only a ray's shading reads are kept in 6 bytes each (80 bytes a point,
-/// 104 as float vectors).
+/// values (NodeRecord), together, as a ray reads them together, and nothing
+/// a ray does not read (the level's Gouraud normals, which only the build
+/// reads, are not kept: 56 bytes a point, 80 with them). The normals only a
+/// ray's shading reads are kept in 6 bytes each (104 bytes as float vectors).
 struct TilePoint {
     Vec3 position{0.0};
-    Vec3 normal{0.0};
     float displacement = 0.0f;  ///< NodeRecord::displacement, rounded up
     OctahedralNormal shading;   ///< NodeRecord::shading_normal
     /// NodeRecord::edge_normal once per grid edge: by the edge's direction

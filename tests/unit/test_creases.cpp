@@ -118,11 +118,12 @@ TEST_CASE("the normal scheme's level-0 normals are the given ones", "[creases][g
         for (int c = 0; c < 3; ++c) {
             const Vec3 given = glm::normalize(mesh.corner_normals[3 * f + c]);
             worst_uniform = std::max(worst_uniform, glm::length(level0.corner_normal(f, c) - given));
-            worst_node = std::max(worst_node, glm::length(rec.normal[c] - given));
+            // Shaded with as given, as mesh2 does.
+            worst_node = std::max(worst_node, glm::length(rec.shading_normal[c] - given));
         }
     }
     CHECK(worst_uniform <= 1e-15);
-    CHECK(worst_node <= 1e-15);
+    CHECK(worst_node <= 1e-7);  // kept in floats
 
     // They shape the surface: level 2 moves away from the computed-normal one.
     Mesh plain = mesh;

@@ -49,7 +49,7 @@ bool same(const NodeRecord& a, const NodeRecord& b) {
     bool eq = a.linear_shading == b.linear_shading && a.shell.lo == b.shell.lo && a.shell.hi == b.shell.hi &&
               a.shell.axis == b.shell.axis && a.shell.slab_min == b.shell.slab_min && a.shell.slab_max == b.shell.slab_max;
     for (int c = 0; c < 3; ++c)
-        eq = eq && a.position[c] == b.position[c] && a.normal[c] == b.normal[c] &&
+        eq = eq && a.position[c] == b.position[c] &&
              a.draw_position[c] == b.draw_position[c] && a.shading_normal[c] == b.shading_normal[c] &&
              a.edge_normal[c] == b.edge_normal[c] && a.displacement[c] == b.displacement[c];
     return eq;

@@ -25,12 +25,14 @@ namespace subdivtrace {
 /// What the tracer needs of a node.
 struct NodeRecord {
     std::array<Vec3, 3> position;       ///< level-L positions (decisions, shells)
-    std::array<Vec3, 3> normal;         ///< level-L Gouraud normals
     std::array<Vec3, 3> draw_position;  ///< where the corner is drawn (Loop: limit point)
-    /// What a leaf shades with, closer to the limit surface's normal than
-    /// `normal`: Loop's limit normal (tangent masks) where the corner's ring is
-    /// a closed fan, else the Gouraud normal of the corner's triangles one
-    /// level down; `normal` itself at max_level and for given normals.
+    /// What a leaf shades with, closer to the limit surface's normal than the
+    /// level's own Gouraud normal: Loop's limit normal (tangent masks) where
+    /// the corner's ring is a closed fan, else the Gouraud normal of the
+    /// corner's triangles one level down; the level-L Gouraud normal itself
+    /// at max_level, and the given normals at level 0. (A record holds only
+    /// what a ray reads: the level-L normals at other levels stay in the
+    /// build.)
     std::array<Vec3, 3> shading_normal;
     /// The normal at the midpoint of edge e (corner e to e + 1) one level
     /// down, from the edge point's ring as shading_normal is from a corner's
