@@ -83,10 +83,10 @@ Worst compare_with_uniform(const Mesh& mesh, SchemeKind scheme, int level,
     return worst;
 }
 
-}  // namespace
-
-TEST_CASE("adaptive hierarchy equals uniform subdivision", "[hierarchy]") {
-    const std::vector<std::pair<const char*, Mesh>> meshes = {
+/// Smooth, open, creased, split-normal, given-normal and bounded meshes:
+/// what the hierarchy is compared with uniform subdivision on.
+std::vector<std::pair<const char*, Mesh>> uniform_comparison_meshes() {
+    return {
         {"icosahedron", testmesh::icosahedron()},
         {"torus", testmesh::torus(8, 6, 1.0, 0.35)},
         {"irregular", testmesh::irregular_closed(7)},
@@ -96,6 +96,12 @@ TEST_CASE("adaptive hierarchy equals uniform subdivision", "[hierarchy]") {
         {"icosphere, given normals", testmesh::icosphere_with_normals(1)},
         {"half sphere (boundary)", testmesh::octasphere_half(1, true)},
     };
+}
+
+}  // namespace
+
+TEST_CASE("adaptive hierarchy equals uniform subdivision", "[hierarchy]") {
+    const std::vector<std::pair<const char*, Mesh>> meshes = uniform_comparison_meshes();
     Worst overall;
     for (const auto& [name, mesh] : meshes) {
         for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
@@ -118,15 +124,7 @@ TEST_CASE("the levels a tile build derives have uniform subdivision's normals", 
     // the level's own Gouraud normals, which the normal scheme's edge rule
     // and the shells read, are checked here where the build holds them: a
     // patch of the whole mesh, subdivided level by level as tiles are.
-    const std::vector<std::pair<const char*, Mesh>> meshes = {
-        {"irregular", testmesh::irregular_closed(7)},
-        {"open grid", testmesh::open_grid(4)},
-        {"faceted cube (creases)", testmesh::faceted_cube()},
-        {"cylinder, split rim normals", testmesh::split_normal_cylinder(7, 1.0, 0.6)},
-        {"icosphere, given normals", testmesh::icosphere_with_normals(1)},
-        {"half sphere (boundary)", testmesh::octasphere_half(1, true)},
-    };
-    for (const auto& [name, mesh] : meshes) {
+    for (const auto& [name, mesh] : uniform_comparison_meshes()) {
         const detail::BaseTopology topo(mesh);
         std::vector<std::uint32_t> faces(mesh.triangles.size());
         std::iota(faces.begin(), faces.end(), 0u);
