@@ -283,15 +283,7 @@ bool LevelTopology::append_refined_ring(const RefinedFrom& from, std::uint32_t v
 
 void LevelTopology::fill_ring(std::uint32_t v, const std::vector<Vec3>& positions,
                               VertexRing& ring) const {
-    ring.center = positions[v];
-    ring.closed = ring_closed_[v] != 0;
-    ring.regular = ring_regular_[v] != 0;
-    ring.nbrs.clear();
-    for (std::size_t k = ring_offsets_[v]; k < ring_offsets_[v + 1]; ++k)
-        ring.nbrs.push_back(positions[ring_nbrs_[k]]);
-    ring.curve_count = curve_count_[v];
-    if (ring.curve_count == 2)
-        for (int k = 0; k < 2; ++k) ring.curve[k] = positions[curve_nbr_[2 * v + k]];
+    detail::gather_ring(positions[v], ring_indices(v), [&](std::uint32_t w) { return positions[w]; }, ring);
 }
 
 std::size_t LevelTopology::ring_index(std::uint32_t v, std::uint32_t w) const {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "huge_pages.h"
+#include "ring_order.h"
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/scheme.h"
 
@@ -86,11 +87,14 @@ public:
     /// Position of w in v's ring (0 if absent).
     std::size_t ring_index(std::uint32_t v, std::uint32_t w) const;
     bool ring_closed(std::uint32_t v) const { return ring_closed_[v] != 0; }
+    /// v's ordered ring as indices (ring_order.h).
+    detail::RingIndices ring_indices(std::uint32_t v) const {
+        return {&ring_nbrs_[ring_offsets_[v]], valence(v),        ring_closed_[v] != 0,
+                ring_regular_[v] != 0,         curve_count_[v], &curve_nbr_[2 * v]};
+    }
     /// Whether v's ring is whole, manifold, of valence 6 and in one sector:
     /// an endpoint of a detail::RegularEdge.
-    bool regular_six(std::uint32_t v) const {
-        return ring_closed_[v] != 0 && ring_regular_[v] != 0 && valence(v) == 6 && single_sector_[v] != 0;
-    }
+    bool regular_six(std::uint32_t v) const { return detail::regular_six(ring_indices(v), single_sector(v)); }
     bool ring_regular(std::uint32_t v) const { return ring_regular_[v] != 0; }
     std::size_t valence(std::uint32_t v) const { return ring_offsets_[v + 1] - ring_offsets_[v]; }
 

@@ -246,16 +246,7 @@ void Patch::finish_vertex(const BaseTopology& topo, const SchemeRules& scheme, s
 }
 
 void Patch::fill_vertex_ring(std::uint32_t v, VertexRing& ring) const {
-    const Ring& r = rings[v];
-    ring.center = verts[v].position;
-    ring.closed = r.closed;
-    ring.regular = r.regular;
-    ring.nbrs.clear();
-    for (std::uint32_t k = 0; k < r.count; ++k) ring.nbrs.push_back(verts[ring_nbrs[r.offset + k]].position);
-    const VertexDerived& d = derived[v];
-    ring.curve_count = d.curve_count;
-    if (d.curve_count == 2)
-        for (int k = 0; k < 2; ++k) ring.curve[k] = verts[d.curve[k]].position;
+    gather_ring(verts[v].position, ring_indices(v), [&](std::uint32_t w) { return verts[w].position; }, ring);
 }
 
 void Patch::give_back_derived() {
@@ -420,8 +411,8 @@ Vec3 Patch::edge_point(const SchemeRules& scheme, const PatchEdge& e) const {
     if (scheme.edge_rule_reads_rings && s.interior && !s.curve && scheme.regular_edge_rule != nullptr &&
         regular_six(e.a) && regular_six(e.b)) {
         // The wings by ring index, without filling either ring.
-        const std::uint32_t* ring_a = &ring_nbrs[rings[e.a].offset];
-        const std::uint32_t* ring_b = &ring_nbrs[rings[e.b].offset];
+        const std::uint32_t* ring_a = ring_indices(e.a).nbrs;
+        const std::uint32_t* ring_b = ring_indices(e.b).nbrs;
         const std::size_t i_b = std::find(ring_a, ring_a + 6, e.b) - ring_a;
         const std::size_t i_a = std::find(ring_b, ring_b + 6, e.a) - ring_b;
         const auto at = [&](const std::uint32_t* ring, std::size_t k) { return verts[ring[k % 6]].position; };

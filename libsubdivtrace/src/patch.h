@@ -25,6 +25,7 @@
 
 #include "base_topology.h"
 #include "node_address.h"
+#include "ring_order.h"
 #include "scheme_rules.h"
 
 namespace subdivtrace::detail {
@@ -197,11 +198,15 @@ public:
     void keep_only(const Flags& keep) { trim_to(keep); }
 
     void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
+    /// v's ordered ring as indices (ring_order.h; after finish(), where v has_ring).
+    RingIndices ring_indices(std::uint32_t v) const {
+        const Ring& r = rings[v];
+        return {ring_nbrs.data() + r.offset, r.count, r.closed, r.regular, derived[v].curve_count, derived[v].curve};
+    }
     /// Whether v's ring is whole, manifold, of valence 6 and in one sector:
     /// an endpoint of a RegularEdge (after finish()).
     bool regular_six(std::uint32_t v) const {
-        const Ring& r = rings[v];
-        return derived[v].has_ring && r.closed && r.regular && r.count == 6 && derived[v].single_sector;
+        return derived[v].has_ring && detail::regular_six(ring_indices(v), derived[v].single_sector);
     }
 
     /// Where leaves draw vertex v (valid where verts[v].has_draw).

@@ -4,9 +4,44 @@
 // (grid vertex keys), so both see the same rings.
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
+#include "subdivtrace/scheme.h"
+
 namespace subdivtrace::detail {
+
+/// An ordered ring as a level holds it: neighbour indices counter-clockwise,
+/// the ring's kind, and the curve through the centre (VertexRing::curve).
+struct RingIndices {
+    const std::uint32_t* nbrs;
+    std::size_t count;
+    bool closed;
+    bool regular;
+    int curve_count;
+    const std::uint32_t* curve;  ///< read where curve_count == 2
+};
+
+/// The scheme rules' view of a ring: the positions of `centre` and of the
+/// ring's points (position_of(index)). Uniform levels and tiles both gather
+/// rings here, so both hand the rules the same values.
+template <class PositionOf>
+void gather_ring(const Vec3& centre, const RingIndices& r, PositionOf position_of, VertexRing& ring) {
+    ring.center = centre;
+    ring.closed = r.closed;
+    ring.regular = r.regular;
+    ring.nbrs.clear();
+    for (std::size_t k = 0; k < r.count; ++k) ring.nbrs.push_back(position_of(r.nbrs[k]));
+    ring.curve_count = r.curve_count;
+    if (r.curve_count == 2)
+        for (int k = 0; k < 2; ++k) ring.curve[k] = position_of(r.curve[k]);
+}
+
+/// Whether a ring is whole, manifold, of valence 6 and in one sector: an
+/// endpoint of a RegularEdge (scheme_rules.h).
+inline bool regular_six(const RingIndices& r, bool single_sector) {
+    return r.closed && r.regular && r.count == 6 && single_sector;
+}
 
 /// Triangle (center, from, to) contributes the directed pair from -> to.
 template <class Id>
