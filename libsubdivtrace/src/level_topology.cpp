@@ -286,12 +286,6 @@ void LevelTopology::fill_ring(std::uint32_t v, const std::vector<Vec3>& position
     detail::gather_ring(positions[v], ring_indices(v), [&](std::uint32_t w) { return positions[w]; }, ring);
 }
 
-std::size_t LevelTopology::ring_index(std::uint32_t v, std::uint32_t w) const {
-    for (std::size_t k = ring_offsets_[v]; k < ring_offsets_[v + 1]; ++k)
-        if (ring_nbrs_[k] == w) return k - ring_offsets_[v];
-    return 0;
-}
-
 namespace {
 
 /// Each corner's own angle-weighted normal (a triangle's three share one

@@ -84,8 +84,6 @@ public:
     std::uint32_t ring_edge(std::uint32_t v, std::size_t k) const {
         return ring_edges_[ring_offsets_[v] + k];
     }
-    /// Position of w in v's ring (0 if absent).
-    std::size_t ring_index(std::uint32_t v, std::uint32_t w) const;
     bool ring_closed(std::uint32_t v) const { return ring_closed_[v] != 0; }
     /// v's ordered ring as indices (ring_order.h).
     detail::RingIndices ring_indices(std::uint32_t v) const {

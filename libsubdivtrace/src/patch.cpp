@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "creases.h"
+#include "edge_rings.h"
 #include "ring_order.h"
 
 namespace subdivtrace::detail {
@@ -408,33 +409,17 @@ Vec3 Patch::edge_point(const SchemeRules& scheme, const PatchEdge& e) const {
         s.c = verts[first_is_c ? third[0] : third[1]].position;
         s.d = verts[first_is_c ? third[1] : third[0]].position;
     }
-    if (scheme.edge_rule_reads_rings && s.interior && !s.curve && scheme.regular_edge_rule != nullptr &&
-        regular_six(e.a) && regular_six(e.b)) {
-        // The wings by ring index, without filling either ring.
-        const std::uint32_t* ring_a = ring_indices(e.a).nbrs;
-        const std::uint32_t* ring_b = ring_indices(e.b).nbrs;
-        const std::size_t i_b = std::find(ring_a, ring_a + 6, e.b) - ring_a;
-        const std::size_t i_a = std::find(ring_b, ring_b + 6, e.a) - ring_b;
-        const auto at = [&](const std::uint32_t* ring, std::size_t k) { return verts[ring[k % 6]].position; };
-        return scheme.regular_edge_rule(
-            {s.a, s.b, s.c, s.d, at(ring_b, i_a + 4), at(ring_a, i_b + 2), at(ring_b, i_a + 2), at(ring_a, i_b + 4)});
-    }
     if (scheme.edge_rule_reads_rings) {
+        const auto position_of = [&](std::uint32_t v) { return verts[v].position; };
+        const auto end_of = [&](std::uint32_t v) {
+            return EdgeEnd{v, ring_indices(v), derived[v].single_sector ? nullptr : &ring_curve[rings[v].offset]};
+        };
+        if (s.interior && !s.curve && scheme.regular_edge_rule != nullptr && regular_six(e.a) && regular_six(e.b))
+            return regular_edge_point(scheme, end_of(e.a), end_of(e.b), s.c, s.d, position_of);
         // Kept by the thread so an edge's rings reuse their arrays, and only
         // schemes that read rings build them.
         thread_local VertexRing ring_a, ring_b;
-        const Ring& ra = rings[e.a];
-        fill_vertex_ring(e.a, ring_a);
-        fill_vertex_ring(e.b, ring_b);
-        const Ring& rb = rings[e.b];
-        for (std::uint32_t k = 0; k < ra.count; ++k)
-            if (ring_nbrs[ra.offset + k] == e.b) s.index_b_in_a = k;
-        for (std::uint32_t k = 0; k < rb.count; ++k)
-            if (ring_nbrs[rb.offset + k] == e.a) s.index_a_in_b = k;
-        if (!derived[e.a].single_sector) restrict_to_sector(ring_a, &ring_curve[ra.offset], s.index_b_in_a);
-        if (!derived[e.b].single_sector) restrict_to_sector(ring_b, &ring_curve[rb.offset], s.index_a_in_b);
-        s.ring_a = &ring_a;
-        s.ring_b = &ring_b;
+        fill_edge_rings(end_of(e.a), end_of(e.b), position_of, ring_a, ring_b, s);
     }
     return scheme.edge_rule(s);
 }

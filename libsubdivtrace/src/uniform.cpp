@@ -9,6 +9,7 @@
 #include <string>
 
 #include "creases.h"
+#include "edge_rings.h"
 #include "huge_pages.h"
 #include "level_topology.h"
 #include "scheme_rules.h"
@@ -116,17 +117,17 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
     };
 
     // Edge points.
+    const auto position_of = [&](std::uint32_t v) { return positions[v]; };
+    const auto end_of = [&](std::uint32_t v) {
+        return detail::EdgeEnd{v, topo.ring_indices(v), topo.single_sector(v) ? nullptr : topo.ring_curve(v)};
+    };
     EdgeStencil stencil;
     for (std::uint32_t e = 0; e < topo.edge_count(); ++e) {
         const LevelTopology::Edge& edge = topo.edge(e);
         if (scheme.regular_edge_rule && edge.interior && !edge.curve && topo.regular_six(edge.a) &&
             topo.regular_six(edge.b)) {
-            // The wings by ring index, without filling either ring.
-            const std::size_t i_b = topo.ring_index(edge.a, edge.b), i_a = topo.ring_index(edge.b, edge.a);
-            const auto at = [&](std::uint32_t v, std::size_t k) { return positions[topo.ring_neighbour(v, k % 6)]; };
-            next[old_count + e] = scheme.regular_edge_rule(
-                {positions[edge.a], positions[edge.b], positions[edge.c], positions[edge.d], at(edge.b, i_a + 4),
-                 at(edge.a, i_b + 2), at(edge.b, i_a + 2), at(edge.a, i_b + 4)});
+            next[old_count + e] = detail::regular_edge_point(scheme, end_of(edge.a), end_of(edge.b),
+                                                             positions[edge.c], positions[edge.d], position_of);
             continue;
         }
         stencil.a = positions[edge.a];
@@ -147,19 +148,8 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
             stencil.normal_a = normals.at(slot_a, triangles[edge.face][edge.corner]);
             stencil.normal_b = normals.at(slot_b, triangles[edge.face][(edge.corner + 1) % 3]);
         }
-        if (scheme.edge_rule_reads_rings) {
-            topo.fill_ring(edge.a, positions, ring_a);
-            topo.fill_ring(edge.b, positions, ring_b);
-            stencil.ring_a = &ring_a;
-            stencil.ring_b = &ring_b;
-            stencil.index_b_in_a = topo.ring_index(edge.a, edge.b);
-            stencil.index_a_in_b = topo.ring_index(edge.b, edge.a);
-            // A crease is a boundary to each side (creases.h).
-            if (!topo.single_sector(edge.a))
-                detail::restrict_to_sector(ring_a, topo.ring_curve(edge.a), stencil.index_b_in_a);
-            if (!topo.single_sector(edge.b))
-                detail::restrict_to_sector(ring_b, topo.ring_curve(edge.b), stencil.index_a_in_b);
-        }
+        if (scheme.edge_rule_reads_rings)
+            detail::fill_edge_rings(end_of(edge.a), end_of(edge.b), position_of, ring_a, ring_b, stencil);
         next[old_count + e] = scheme.edge_rule(stencil);
     }
 
