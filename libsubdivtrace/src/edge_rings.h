@@ -28,6 +28,15 @@ inline std::size_t index_in_ring(const RingIndices& r, std::uint32_t w) {
     return at == r.nbrs + r.count ? 0 : static_cast<std::size_t>(at - r.nbrs);
 }
 
+/// Whether an edge takes the scheme's regular edge rule (regular_edge_point):
+/// the scheme has one, the edge is interior and no curve, and both ends pass
+/// regular_six (asked last: it reads their rings).
+template <class RegularSix>
+bool takes_regular_edge_rule(const SchemeRules& scheme, bool interior, bool curve, std::uint32_t a,
+                             std::uint32_t b, RegularSix regular_six) {
+    return scheme.regular_edge_rule != nullptr && interior && !curve && regular_six(a) && regular_six(b);
+}
+
 /// The edge's point where both ends are regular_six and the scheme has a
 /// regular edge rule: its eight points by ring index, without gathering
 /// either ring (c and d as EdgeStencil has them).

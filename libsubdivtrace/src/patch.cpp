@@ -414,7 +414,8 @@ Vec3 Patch::edge_point(const SchemeRules& scheme, const PatchEdge& e) const {
         const auto end_of = [&](std::uint32_t v) {
             return EdgeEnd{v, ring_indices(v), derived[v].single_sector ? nullptr : &ring_curve[rings[v].offset]};
         };
-        if (s.interior && !s.curve && scheme.regular_edge_rule != nullptr && regular_six(e.a) && regular_six(e.b))
+        if (takes_regular_edge_rule(scheme, s.interior, s.curve, e.a, e.b,
+                                    [&](std::uint32_t v) { return regular_six(v); }))
             return regular_edge_point(scheme, end_of(e.a), end_of(e.b), s.c, s.d, position_of);
         // Kept by the thread so an edge's rings reuse their arrays, and only
         // schemes that read rings build them.

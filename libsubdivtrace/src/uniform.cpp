@@ -121,11 +121,11 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
     const auto end_of = [&](std::uint32_t v) {
         return detail::EdgeEnd{v, topo.ring_indices(v), topo.single_sector(v) ? nullptr : topo.ring_curve(v)};
     };
+    const auto regular_six = [&](std::uint32_t v) { return topo.regular_six(v); };
     EdgeStencil stencil;
     for (std::uint32_t e = 0; e < topo.edge_count(); ++e) {
         const LevelTopology::Edge& edge = topo.edge(e);
-        if (scheme.regular_edge_rule && edge.interior && !edge.curve && topo.regular_six(edge.a) &&
-            topo.regular_six(edge.b)) {
+        if (detail::takes_regular_edge_rule(scheme, edge.interior, edge.curve, edge.a, edge.b, regular_six)) {
             next[old_count + e] = detail::regular_edge_point(scheme, end_of(edge.a), end_of(edge.b),
                                                              positions[edge.c], positions[edge.d], position_of);
             continue;
