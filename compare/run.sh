@@ -100,10 +100,10 @@ fi
 # finest is its own reference image).
 embree_pixels=(4 2 1 0.5)
 mem_limit_mb=6000
-# Node cache budget of the adaptive renders (MB). The CLI's default is 512; the
-# cache reserves its budget up front, so peak RSS follows the budget, not the
-# work. 64 was as fast as 512 here. One extra render per view at tolerance 1
-# with a 16 MB budget shows the memory floor.
+# Node cache budget of the adaptive renders (MB), the CLI's default: a
+# ceiling, as the cache keeps only what the picture comes back to below it.
+# One extra render per view at tolerance 1 with a 16 MB budget shows how
+# little a smaller ceiling changes.
 cache_mb=${CACHE_MB:-32}
 lowmem_cache_mb=16
 

@@ -7,11 +7,19 @@
 // out, so a reader never holds a pointer an eviction could free. Each entry is
 // charged to an owner (a surface sharing the cache) so owners can report their
 // own share.
+//
+// The budget is a ceiling: the cache keeps at most a working limit, which
+// starts small and grows while entries it dropped are asked for again (a
+// "re-miss": the key is among the recently evicted ones it remembers, as
+// ARC's ghost lists do). A picture whose working set fits the limit never
+// grows it; one whose rays keep coming back to dropped tiles grows it until
+// they stop, up to the budget (docs/tracer.md, "Cache and memory").
 
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <exception>
 #include <future>
 #include <list>
@@ -47,8 +55,12 @@ struct CacheCounters {
     std::uint64_t duplicate_builds = 0;
     std::uint64_t insertions = 0;
     std::uint64_t evictions = 0;
+    /// Misses on a key evicted recently (each would have hit in a cache
+    /// about twice the size): what grows the limit.
+    std::uint64_t remisses = 0;
     std::size_t bytes = 0;
     std::size_t peak_bytes = 0;
+    std::size_t limit = 0;  ///< the working limit now (at most the budget)
 };
 
 template <class Key, class Value, class Hash>
@@ -62,16 +74,30 @@ public:
     static constexpr std::size_t k_entry_bytes =
         2 * sizeof(Key) + sizeof(Value) + sizeof(void*) + 88;
     static constexpr std::size_t k_shards = 64;
+    /// The working limit a cache starts with (or its budget, if lower).
+    static constexpr std::size_t k_start_limit = std::size_t{8} << 20;
+    /// Re-misses are frequent above one in this many misses (grow_limit).
+    static constexpr std::uint64_t k_frequent_remisses = 32;
 
-    explicit ShardedLruCache(std::size_t budget_bytes) : shards_(k_shards) {
-        set_budget(budget_bytes);
+    /// With `whole_budget`, the limit is the budget from the start (a cache
+    /// that must keep everything it can, as the tests' references do).
+    explicit ShardedLruCache(std::size_t budget_bytes, bool whole_budget = false) : shards_(k_shards) {
+        budget_.store(budget_bytes, std::memory_order_relaxed);
+        set_limit(whole_budget ? budget_bytes : std::min(budget_bytes, k_start_limit));
     }
 
+    /// Sets the ceiling; the working limit is lowered to it if above (and
+    /// grows again only up to it).
     void set_budget(std::size_t budget_bytes) {
         budget_.store(budget_bytes, std::memory_order_relaxed);
-        budget_per_shard_.store(budget_bytes / shards_.size(), std::memory_order_relaxed);
+        if (limit() > budget_bytes) set_limit(budget_bytes);
     }
     std::size_t budget() const { return budget_.load(std::memory_order_relaxed); }
+    std::size_t limit() const { return limit_.load(std::memory_order_relaxed); }
+
+    /// The shard that holds `key`: the high bits of its hash pick it (the
+    /// shard's map uses all of them).
+    static std::size_t shard_index(const Key& key) { return (Hash{}(key) >> 7) % k_shards; }
 
     /// The value cached under `key`, or `build()` (returning the value and
     /// the bytes it owns beyond sizeof(Value)) run by this thread while any
@@ -95,6 +121,7 @@ public:
         Shard& s = shard_for(key);
         std::shared_future<Value> other_build;
         std::vector<std::promise<Value>> promises;
+        std::size_t needed_bytes = 0, entry_bytes = 0;  // set by a re-miss
         {
             std::lock_guard<std::mutex> lock(s.mutex);
             auto it = s.map.find(key);
@@ -112,12 +139,28 @@ public:
             } else {
                 ++s.misses;
                 owner.misses.fetch_add(1, std::memory_order_relaxed);
+                const auto ghost = std::find(s.ghosts.begin(), s.ghosts.end(), Hash{}(key));
+                if (ghost != s.ghosts.end()) {
+                    ++s.remisses;
+                    // The room the whole cache would have needed to keep it:
+                    // this shard's bytes and, of its average entry size, one
+                    // for each eviction since, times the shards.
+                    const std::size_t evicted_since = static_cast<std::size_t>(s.ghosts.end() - ghost);
+                    const std::size_t entry = s.bytes / std::max<std::size_t>(1, s.order.size());
+                    needed_bytes = (s.bytes + evicted_since * entry) * shards_.size();
+                    entry_bytes = entry;
+                }
                 // A promise allocates its shared state: made on a miss only.
                 promises.emplace_back();
                 s.pending.emplace(key, promises[0].get_future().share());
             }
         }
         if (other_build.valid()) return other_build.get();
+        const std::uint64_t misses = all_misses_.fetch_add(1, std::memory_order_relaxed) + 1;
+        if (needed_bytes != 0) {
+            const std::uint64_t remisses = all_remisses_.fetch_add(1, std::memory_order_relaxed) + 1;
+            grow_limit(needed_bytes, entry_bytes, k_frequent_remisses * remisses > misses);
+        }
 
         // This thread builds `key`, and the group's keys nobody has or builds.
         std::vector<Key> claimed{key};
@@ -204,9 +247,11 @@ public:
             c.duplicate_builds += s.duplicate_builds;
             c.insertions += s.insertions;
             c.evictions += s.evictions;
+            c.remisses += s.remisses;
         }
         c.bytes = total_bytes_.load(std::memory_order_relaxed);
         c.peak_bytes = peak_bytes_.load(std::memory_order_relaxed);
+        c.limit = limit();
         return c;
     }
 
@@ -224,9 +269,21 @@ private:
         /// Keys being built, with the future their builder fulfils.
         std::unordered_map<Key, std::shared_future<Value>, Hash> pending;
         std::uint64_t hits = 0, misses = 0, waits = 0, duplicate_builds = 0, insertions = 0,
-                      evictions = 0;
+                      evictions = 0, remisses = 0;
         std::size_t bytes = 0;
+        /// The hashes of the keys evicted last, oldest first: 8 bytes each,
+        /// searched only on a miss (a scan of a few hundred, against the
+        /// tens of microseconds of the build that follows). A hash, not the
+        /// key: a collision only counts a re-miss too many.
+        std::deque<std::size_t> ghosts;
     };
+    /// A shard remembers k_ghosts_per_entry evicted keys per entry it holds,
+    /// and at least k_min_ghosts: a set that comes back within that many
+    /// times the cache's size is seen to come back (with only as many
+    /// ghosts as entries, as ARC keeps, a scan of more than twice the cache
+    /// would never re-miss and never grow it).
+    static constexpr std::size_t k_ghosts_per_entry = 4;
+    static constexpr std::size_t k_min_ghosts = 64;
     /// Every shard keeps a few entries, so a tiny budget still makes
     /// progress (it only costs recomputation).
     static constexpr std::size_t k_min_entries = 2;
@@ -252,11 +309,45 @@ private:
         atomic_raise(owner.peak_bytes, std::min(owner_bytes, owner.bytes.load(std::memory_order_relaxed)));
     }
 
-    /// Drops the least recently used entries while the shard is over its budget.
+    void set_limit(std::size_t bytes) {
+        limit_.store(bytes, std::memory_order_relaxed);
+        limit_per_shard_.store(bytes / shards_.size(), std::memory_order_relaxed);
+    }
+
+    /// Raises the limit after a re-miss, never past the budget: by one
+    /// entry's room while re-misses are rare (the cache is about the size its
+    /// lookups need, and this brings it there without overshooting); while
+    /// they are frequent, to what the re-missed entry needed (its LRU stack
+    /// distance in bytes), at most doubling it at a time (each re-miss then
+    /// costs a rebuild that may be large: a tile and the parents it starts
+    /// from). Racy by design: concurrent raises only keep the larger.
+    void grow_limit(std::size_t needed_bytes, std::size_t entry_bytes, bool frequent) {
+        const std::size_t ceiling = budget();
+        std::size_t now = limit();
+        while (now < ceiling) {
+            const std::size_t target = frequent ? std::min(needed_bytes, 2 * now) : now + entry_bytes;
+            const std::size_t grown = std::min(ceiling, std::max(target, now + entry_bytes));
+            if (limit_.compare_exchange_weak(now, grown, std::memory_order_relaxed)) {
+                limit_per_shard_.store(grown / shards_.size(), std::memory_order_relaxed);
+                return;
+            }
+        }
+    }
+
+    /// Remembers an evicted key (its hash), forgetting the oldest beyond
+    /// k_ghosts_per_entry per entry the shard holds.
+    void remember_evicted_locked(Shard& s, const Key& key) {
+        s.ghosts.push_back(Hash{}(key));
+        while (s.ghosts.size() > std::max(k_min_ghosts, k_ghosts_per_entry * s.order.size())) s.ghosts.pop_front();
+    }
+
+    /// Drops the least recently used entries while the shard is over its
+    /// share of the working limit.
     void evict_over_budget_locked(Shard& s) {
-        const std::size_t shard_budget = budget_per_shard_.load(std::memory_order_relaxed);
+        const std::size_t shard_budget = limit_per_shard_.load(std::memory_order_relaxed);
         while (s.bytes > shard_budget && s.order.size() > k_min_entries) {
             Entry& victim = s.order.back();
+            remember_evicted_locked(s, victim.key);
             s.bytes -= victim.bytes;
             total_bytes_.fetch_sub(victim.bytes, std::memory_order_relaxed);
             victim.owner->bytes.fetch_sub(victim.bytes, std::memory_order_relaxed);
@@ -267,15 +358,14 @@ private:
         }
     }
 
-    Shard& shard_for(const Key& key) {
-        // The high bits of the hash pick the shard, the map uses all of them.
-        const std::size_t h = Hash{}(key);
-        return shards_[(h >> 7) % shards_.size()];
-    }
+    Shard& shard_for(const Key& key) { return shards_[shard_index(key)]; }
 
     std::vector<Shard> shards_;
-    std::atomic<std::size_t> budget_{0};
-    std::atomic<std::size_t> budget_per_shard_{0};
+    std::atomic<std::size_t> budget_{0};  ///< the ceiling
+    std::atomic<std::size_t> limit_{0};   ///< what the shards keep now, summed
+    std::atomic<std::size_t> limit_per_shard_{0};
+    std::atomic<std::uint64_t> all_misses_{0};    ///< lookups that built, in the cache's life
+    std::atomic<std::uint64_t> all_remisses_{0};  ///< of them, re-misses
     std::atomic<std::size_t> total_bytes_{0};
     std::atomic<std::size_t> peak_bytes_{0};
 };

@@ -4,8 +4,8 @@
 
 namespace subdivtrace {
 
-TileCache::TileCache(std::size_t budget_bytes)
-    : impl_(std::make_unique<detail::TileCacheImpl>(budget_bytes)) {}
+TileCache::TileCache(std::size_t budget_bytes, Sizing sizing)
+    : impl_(std::make_unique<detail::TileCacheImpl>(budget_bytes, sizing == Sizing::whole_budget)) {}
 
 TileCache::~TileCache() = default;
 
@@ -25,6 +25,8 @@ TileCacheStats TileCache::stats() const {
     s.insertions = c.insertions;
     s.duplicate_builds = c.duplicate_builds;
     s.evictions = c.evictions;
+    s.limit_bytes = c.limit;
+    s.remisses = c.remisses;
     s.surfaces = impl_->surfaces.load(std::memory_order_relaxed);
     return s;
 }

@@ -39,7 +39,8 @@ const char* k_render_options_help =
     "  --tolerance T              pixels, for the rule above (1)\n"
     "  --max-level L              deepest level any ray may reach (8)\n"
     "  --uniform K                render the uniform level-K mesh instead (baseline)\n"
-    "  --cache-mb M               tile cache budget in MB (32)\n"
+    "  --cache-mb M               most the tile cache keeps, MB (32); it keeps\n"
+    "                             less where the picture needs less\n"
     "  --shell K                  bounding shells: slab (box and normal slab) | aabb (slab)\n"
     "  --color-by level|face|error false colours: the level of the leaf each pixel hit,\n"
     "                             its base triangle, or its certified error bound in\n"
@@ -127,6 +128,11 @@ std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& r
         j << "  \"cache_hits\": " << ss->trace.cache_hits << ", \"cache_misses\": "
           << ss->trace.cache_misses << ", \"cache_evictions\": " << ss->cache_evictions << ",\n";
         j << "  \"cache_peak_mb\": " << ss->cache_peak_bytes / 1048576.0 << ",\n";
+        // The scene cache's working limit (it grows while dropped tiles are
+        // asked for again: the remisses) under its budget.
+        j << "  \"cache_limit_mb\": " << ss->shared_cache.limit_bytes / 1048576.0
+          << ", \"cache_budget_mb\": " << ss->shared_cache.budget_bytes / 1048576.0
+          << ", \"cache_remisses\": " << ss->shared_cache.remisses << ",\n";
         // What the surface holds outside the cache budget, part by part.
         const SurfaceMemory& m = ss->memory;
         const double faces = std::max<double>(1.0, static_cast<double>(ss->base_triangles));

@@ -70,7 +70,10 @@ TEST_CASE("the surface's memory outside the cache matches a count by hand", "[me
 }
 
 TEST_CASE("per-thread fronts are counted while their threads hold them", "[memory][threads]") {
-    const AdaptiveSurface surface(testmesh::icosphere(2), close_view_options());
+    // A cache that keeps the whole budget from the start, so nothing is evicted (below).
+    SurfaceOptions options = close_view_options();
+    options.cache = std::make_shared<TileCache>(std::size_t{32} << 20, TileCache::Sizing::whole_budget);
+    const AdaptiveSurface surface(testmesh::icosphere(2), options);
     trace_close_rays(surface, 1, 200);
     const SurfaceStats one = surface.stats();
     REQUIRE(one.nodes_built > 0);  // the rays refined

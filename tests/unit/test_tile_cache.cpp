@@ -92,9 +92,10 @@ TEST_CASE("surfaces sharing one small cache render what each renders with its ow
     Mesh sphere = testmesh::icosphere(1);
     for (Vec3& p : sphere.positions) p = 0.4 * p + Vec3(0.9, 0.3, 0.2);
 
-    // Truth: each surface with a roomy cache of its own, one thread.
-    const AdaptiveSurface own_t(torus, pair_options(nullptr, 512));
-    const AdaptiveSurface own_s(sphere, pair_options(nullptr, 512));
+    // Truth: each surface with a roomy cache of its own, kept whole, one thread.
+    const auto roomy = [] { return std::make_shared<TileCache>(std::size_t{512} << 20, TileCache::Sizing::whole_budget); };
+    const AdaptiveSurface own_t(torus, pair_options(roomy(), 512));
+    const AdaptiveSurface own_s(sphere, pair_options(roomy(), 512));
     const std::vector<float> reference = render_pair(own_t, own_s, 1);
     CHECK(own_t.stats().cache_evictions == 0);
     CHECK(own_t.stats().shared_cache.surfaces == 1);
@@ -183,14 +184,17 @@ TEST_CASE("lookup_or_build builds each tile once however many threads ask at onc
           "[cache][threads]") {
     const Mesh mesh = testmesh::icosphere(2);
     // Truth: the tiles and records one thread builds for the walk.
-    const Hierarchy alone(mesh, SchemeKind::normal, 6, std::size_t{256} << 20);
+    // Caches that keep their whole budget from the start: nothing is evicted,
+    // so every tile is built exactly once.
+    const auto roomy = [] { return std::make_shared<TileCache>(std::size_t{256} << 20, TileCache::Sizing::whole_budget); };
+    const Hierarchy alone(mesh, SchemeKind::normal, 6, roomy());
     walk(alone, 80, 5);
     const HierarchyCounters truth = alone.counters();
     REQUIRE(truth.node_misses > 100);
 
     // Four threads walk the same nodes in the same order at the same time, so
     // they keep asking for tiles another is building.
-    auto cache = std::make_shared<TileCache>(std::size_t{256} << 20);
+    auto cache = roomy();
     const Hierarchy shared(mesh, SchemeKind::normal, 6, cache);
     std::atomic<int> ready{0};
     std::vector<std::thread> threads;

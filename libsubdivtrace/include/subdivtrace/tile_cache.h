@@ -24,7 +24,11 @@ class TileCacheImpl;
 
 /// What a TileCache did, over every surface that uses it.
 struct TileCacheStats {
-    std::size_t budget_bytes = 0;  ///< the budget now
+    std::size_t budget_bytes = 0;  ///< the budget now: a ceiling
+    /// What the cache keeps now: it starts at 8 MB (or the budget, if
+    /// lower) and grows, up to the budget, while tiles it dropped are asked
+    /// for again (remisses).
+    std::size_t limit_bytes = 0;
     std::size_t bytes = 0;         ///< what its tiles are charged now
     /// The most its tiles were charged at once (exact: one running total
     /// over all shards). Each shard keeps budget / shards, so this stays at
@@ -41,13 +45,19 @@ struct TileCacheStats {
     /// Tiles built while the same tile was already cached or being built: the
     /// work lookup_or_build exists to avoid. Stays 0; counted to prove it.
     std::uint64_t duplicate_builds = 0;
-    std::uint64_t evictions = 0;  ///< tiles dropped to keep within the budget
+    std::uint64_t evictions = 0;  ///< tiles dropped to keep within the limit
+    /// Misses on tiles dropped recently (the cache remembers four dropped
+    /// tiles for each it holds): each would have been a hit in a larger
+    /// cache, and each grows the limit.
+    std::uint64_t remisses = 0;
     std::size_t surfaces = 0;     ///< hierarchies alive that use this cache
 };
 
 /// A byte-budgeted cache of subdivision tiles, shared by any number of
-/// surfaces. Pass one in SurfaceOptions::cache to every surface of a scene;
-/// keep it (a shared_ptr) as long as any of them. Its entries are keyed by
+/// surfaces. The budget is a ceiling: a picture whose tiles fit in less
+/// (most do) keeps less (TileCacheStats::limit_bytes). Pass one in
+/// SurfaceOptions::cache to every surface of a scene; keep it (a
+/// shared_ptr) as long as any of them. Its entries are keyed by
 /// the surface (an id never reused) and the tile, so surfaces never see each
 /// other's tiles; a surface's tiles leave the cache when it is destroyed.
 class TileCache {
@@ -55,15 +65,23 @@ public:
     /// Default scene budget in MB (docs/povray.md, "Choosing the budget", measures the choice).
     static constexpr std::size_t k_default_mb = 128;
 
-    /// A cache charging at most about `budget_bytes` (see peak_bytes).
-    /// A tiny budget is legal: it only costs rebuilding tiles.
-    explicit TileCache(std::size_t budget_bytes = k_default_mb << 20);
+    /// How much of the budget the cache keeps.
+    enum class Sizing {
+        on_demand,     ///< a working limit that grows while dropped tiles come back
+        whole_budget,  ///< the whole budget from the start (fixed)
+    };
+
+    /// A cache charging at most about `budget_bytes` (see peak_bytes), and
+    /// with Sizing::on_demand only what its pictures need below that
+    /// (limit_bytes). A tiny budget is legal: it only costs rebuilding tiles.
+    explicit TileCache(std::size_t budget_bytes = k_default_mb << 20, Sizing sizing = Sizing::on_demand);
     ~TileCache();
     TileCache(const TileCache&) = delete;
     TileCache& operator=(const TileCache&) = delete;
 
-    /// Changes the budget; thread-safe. A smaller budget evicts at the next
-    /// insertion into each part of the cache, not at once.
+    /// Changes the budget; thread-safe. A smaller budget (and the working
+    /// limit, lowered to it) evicts at the next insertion into each part of
+    /// the cache, not at once; a larger one lets the limit grow further.
     void set_budget(std::size_t budget_bytes);
     std::size_t budget() const;
 

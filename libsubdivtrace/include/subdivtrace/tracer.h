@@ -73,8 +73,9 @@ struct SurfaceOptions {
     /// Deepest level any ray may refine to (0 = the base mesh).
     int max_level = 8;
     /// Byte budget of the surface's own tile cache, shared by all threads;
-    /// used only when `cache` (below) is null. Tiles are charged what they
-    /// hold: a close-up of one object needs about 16 MB (docs/povray.md).
+    /// used only when `cache` (below) is null. A ceiling: the cache starts
+    /// at 8 MB and grows only while tiles it dropped are asked for again
+    /// (TileCache; a close-up of one object settles at about 8-9 MB).
     std::size_t cache_mb = 32;
     View view;
     CrackRule crack_rule = CrackRule::snap_frozen_edges;
