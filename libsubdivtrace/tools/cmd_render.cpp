@@ -41,6 +41,8 @@ const char* k_render_options_help =
     "  --uniform K                render the uniform level-K mesh instead (baseline)\n"
     "  --cache-mb M               most the tile cache keeps, MB (32); it keeps\n"
     "                             less where the picture needs less\n"
+    "  --cache-fixed              keep all of --cache-mb from the start (to measure\n"
+    "                             what every node built costs to keep: nothing evicted)\n"
     "  --shell K                  bounding shells: slab (box and normal slab) | aabb (slab)\n"
     "  --color-by level|face|error false colours: the level of the leaf each pixel hit,\n"
     "                             its base triangle, or its certified error bound in\n"
@@ -56,6 +58,7 @@ struct RenderArgs {
     int max_level = 8;
     int uniform = -1;
     std::size_t cache_mb = SurfaceOptions{}.cache_mb;
+    bool cache_fixed = false;
     ShellKind shell = ShellKind::aabb_slab;
     ColorBy color_by = ColorBy::shading;
     WeldOptions weld;
@@ -76,6 +79,7 @@ RenderArgs parse_render_args(const Args& args, bool needs_output) {
             if (!(r.tolerance > 0.0)) throw UsageError{"--tolerance must be positive"};
         } else if (a == "--max-level") r.max_level = parse_int(a, value(), 0, k_max_level_cap);
         else if (a == "--uniform") r.uniform = parse_int(a, value(), 0, k_max_uniform_levels);
+        else if (a == "--cache-fixed") r.cache_fixed = true;
         else if (a == "--cache-mb") r.cache_mb = static_cast<std::size_t>(parse_int(a, value(), 1, 1 << 20));
         else if (a == "--shell") {
             const std::string& kind = value();
@@ -116,7 +120,7 @@ std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& r
         const double rays = std::max<double>(1.0, static_cast<double>(ss->trace.rays));
         j << "  \"nodes_built\": " << ss->nodes_built << ",\n";
         // What a node costs to build, and (exact while nothing was evicted,
-        // when every node built is in the cache) to keep.
+        // when every node built is in the cache: --cache-fixed) to keep.
         const double nodes = std::max<double>(1.0, static_cast<double>(ss->nodes_built));
         j << "  \"tiles_built\": " << ss->tiles_built << ", \"tile_build_seconds\": "
           << ss->tile_build_seconds << ", \"ns_per_node_built\": "
@@ -202,6 +206,7 @@ int run_render_or_stats(const Args& args, bool write_png) {
         so.tolerance = a.tolerance;
         so.max_level = a.max_level;
         so.cache_mb = a.cache_mb;
+        if (a.cache_fixed) so.cache = std::make_shared<TileCache>(a.cache_mb << 20, TileCache::Sizing::whole_budget);
         so.shell_kind = a.shell;
         so.view = cam.view();
         const AdaptiveSurface surface(std::move(mesh), so);
