@@ -233,12 +233,15 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     if (needs_frontier(1)) {
         if (group.tiles_ == 1) {
             frontier_ = std::make_unique<Patch>(std::move(q));
+            frontier_->drop_derived();
         } else {
             frontier_ = std::make_unique<Patch>(Patch::copy_of(q, q.band_around(tile_tris)));
+            // Kept for the tile's life: without the room copy_of reserves
+            // for a border's worst case (about 1.6x the vertices a band
+            // has). Its edge names stay: the next level would name them again.
+            frontier_->verts.shrink_to_fit();
+            frontier_->draw.shrink_to_fit();
         }
-        // Kept for the tile's life: no spare room (a copy reserves for a
-        // border's worst case, about 1.6x the vertices a band has).
-        frontier_->drop_derived();
     }
     ready_.store(1, std::memory_order_release);
 }
