@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -16,6 +17,29 @@
 namespace subdivtrace::tools {
 
 namespace {
+
+/// The side of the square blocks of pixels threads take (POV-Ray's default
+/// render block size).
+constexpr int k_block_pixels = 32;
+
+/// The indices (row-major) of a grid of `across` x `down` blocks in Z-order
+/// (Morton order over the smallest power-of-two square that holds them).
+std::vector<int> z_order(int across, int down) {
+    int side = 1;
+    while (side < across || side < down) side *= 2;
+    std::vector<int> order;
+    order.reserve(static_cast<std::size_t>(across) * down);
+    for (int m = 0; m < side * side; ++m) {
+        // Even bits of m are x's, odd bits y's.
+        int x = 0, y = 0;
+        for (int bit = 0; (1 << bit) < side; ++bit) {
+            x |= ((m >> (2 * bit)) & 1) << bit;
+            y |= ((m >> (2 * bit + 1)) & 1) << bit;
+        }
+        if (x < across && y < down) order.push_back(y * across + x);
+    }
+    return order;
+}
 
 const Vec3 k_background(0.08, 0.09, 0.11);
 const Vec3 k_albedo(0.85, 0.78, 0.65);
@@ -79,9 +103,20 @@ Image render(const IntersectFn& intersect, const Camera& camera, const RenderOpt
                                       : static_cast<int>(std::thread::hardware_concurrency());
     threads = std::max(1, threads);
 
-    std::atomic<int> next_row{0};
-    std::atomic<int> rows_done{0};
-    // Wakes the progress report when the last row is done, so the render's
+    // Threads take square blocks of pixels, as POV-Ray does (its default
+    // block size), in Z-order: a block's rays come back to the same tiles,
+    // and to the same parents their child tiles start from, which a row of
+    // pixels crossing the whole image would have left; and the blocks that
+    // follow one another are neighbours in both directions, so the tiles
+    // along a block's edges are soon asked for again (docs/benchmarks.md,
+    // "Blocks of pixels"). Pixels do not depend on the order.
+    const int blocks_across = (camera.width + k_block_pixels - 1) / k_block_pixels;
+    const int blocks_down = (camera.height + k_block_pixels - 1) / k_block_pixels;
+    const int block_count = blocks_across * blocks_down;
+    const std::vector<int> block_order = z_order(blocks_across, blocks_down);
+    std::atomic<int> next_block{0};
+    std::atomic<int> blocks_done{0};
+    // Wakes the progress report when the last block is done, so the render's
     // time is not rounded up to its next report.
     std::mutex done_mutex;
     std::condition_variable all_done;
@@ -89,25 +124,31 @@ Image render(const IntersectFn& intersect, const Camera& camera, const RenderOpt
     const auto start = std::chrono::steady_clock::now();
     auto worker = [&](int t) {
         RenderStats& local = per_thread[t];
-        for (int y = next_row++; y < camera.height; y = next_row++) {
-            for (int x = 0; x < camera.width; ++x) {
-                const Ray ray = camera.ray(x, y);
-                Hit hit;
-                ++local.rays;
-                Vec3 colour = k_background;
-                if (intersect(ray, hit)) {
-                    ++local.hit_pixels;
-                    count_pixel(options.color_by, hit, local.tally);
-                    colour = options.color_by == ColorBy::shading
-                                 ? shade(intersect, ray, hit, light, options.shadows, local)
-                                 : false_colour(options.color_by, ray, hit);
+        for (int n = next_block++; n < block_count; n = next_block++) {
+            const int b = block_order[n];
+            const int x0 = (b % blocks_across) * k_block_pixels, y0 = (b / blocks_across) * k_block_pixels;
+            const int x1 = std::min(camera.width, x0 + k_block_pixels);
+            const int y1 = std::min(camera.height, y0 + k_block_pixels);
+            for (int y = y0; y < y1; ++y) {
+                for (int x = x0; x < x1; ++x) {
+                    const Ray ray = camera.ray(x, y);
+                    Hit hit;
+                    ++local.rays;
+                    Vec3 colour = k_background;
+                    if (intersect(ray, hit)) {
+                        ++local.hit_pixels;
+                        count_pixel(options.color_by, hit, local.tally);
+                        colour = options.color_by == ColorBy::shading
+                                     ? shade(intersect, ray, hit, light, options.shadows, local)
+                                     : false_colour(options.color_by, ray, hit);
+                    }
+                    float* px = &image.rgb[(std::size_t(y) * camera.width + x) * 3];
+                    px[0] = static_cast<float>(colour.x);
+                    px[1] = static_cast<float>(colour.y);
+                    px[2] = static_cast<float>(colour.z);
                 }
-                float* px = &image.rgb[(std::size_t(y) * camera.width + x) * 3];
-                px[0] = static_cast<float>(colour.x);
-                px[1] = static_cast<float>(colour.y);
-                px[2] = static_cast<float>(colour.z);
             }
-            if (++rows_done == camera.height) {
+            if (++blocks_done == block_count) {
                 const std::lock_guard<std::mutex> lock(done_mutex);
                 all_done.notify_all();
             }
@@ -119,15 +160,15 @@ Image render(const IntersectFn& intersect, const Camera& camera, const RenderOpt
         // The calling thread reports progress while the others work, then joins in.
         pool.emplace_back(worker, 0);
         int last = -1;
-        while (rows_done.load() < camera.height) {
+        while (blocks_done.load() < block_count) {
             {
                 std::unique_lock<std::mutex> lock(done_mutex);
                 all_done.wait_for(lock, std::chrono::milliseconds(250),
-                                  [&] { return rows_done.load() >= camera.height; });
+                                  [&] { return blocks_done.load() >= block_count; });
             }
             const double elapsed =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            const int percent = 100 * rows_done.load() / camera.height;
+            const int percent = 100 * blocks_done.load() / block_count;
             if (elapsed > 1.0 && percent != last) {
                 std::fprintf(stderr, "\rrendering: %3d%% (%.1f s)", percent, elapsed);
                 last = percent;
