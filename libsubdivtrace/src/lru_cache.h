@@ -55,8 +55,8 @@ struct CacheCounters {
     std::uint64_t duplicate_builds = 0;
     std::uint64_t insertions = 0;
     std::uint64_t evictions = 0;
-    /// Misses on a key evicted recently (each would have hit in a cache
-    /// about twice the size): what grows the limit.
+    /// Misses on a key evicted recently (each would have hit in a larger
+    /// cache): what grows the limit.
     std::uint64_t remisses = 0;
     std::size_t bytes = 0;
     std::size_t peak_bytes = 0;
@@ -83,14 +83,14 @@ public:
     /// that must keep everything it can, as the tests' references do).
     explicit ShardedLruCache(std::size_t budget_bytes, bool whole_budget = false) : shards_(k_shards) {
         budget_.store(budget_bytes, std::memory_order_relaxed);
-        set_limit(whole_budget ? budget_bytes : std::min(budget_bytes, k_start_limit));
+        limit_.store(whole_budget ? budget_bytes : std::min(budget_bytes, k_start_limit), std::memory_order_relaxed);
     }
 
     /// Sets the ceiling; the working limit is lowered to it if above (and
     /// grows again only up to it).
     void set_budget(std::size_t budget_bytes) {
         budget_.store(budget_bytes, std::memory_order_relaxed);
-        if (limit() > budget_bytes) set_limit(budget_bytes);
+        if (limit() > budget_bytes) limit_.store(budget_bytes, std::memory_order_relaxed);
     }
     std::size_t budget() const { return budget_.load(std::memory_order_relaxed); }
     std::size_t limit() const { return limit_.load(std::memory_order_relaxed); }
@@ -309,11 +309,6 @@ private:
         atomic_raise(owner.peak_bytes, std::min(owner_bytes, owner.bytes.load(std::memory_order_relaxed)));
     }
 
-    void set_limit(std::size_t bytes) {
-        limit_.store(bytes, std::memory_order_relaxed);
-        limit_per_shard_.store(bytes / shards_.size(), std::memory_order_relaxed);
-    }
-
     /// Raises the limit after a re-miss, never past the budget: by one
     /// entry's room while re-misses are rare (the cache is about the size its
     /// lookups need, and this brings it there without overshooting); while
@@ -327,10 +322,7 @@ private:
         while (now < ceiling) {
             const std::size_t target = frequent ? std::min(needed_bytes, 2 * now) : now + entry_bytes;
             const std::size_t grown = std::min(ceiling, std::max(target, now + entry_bytes));
-            if (limit_.compare_exchange_weak(now, grown, std::memory_order_relaxed)) {
-                limit_per_shard_.store(grown / shards_.size(), std::memory_order_relaxed);
-                return;
-            }
+            if (limit_.compare_exchange_weak(now, grown, std::memory_order_relaxed)) return;
         }
     }
 
@@ -344,7 +336,7 @@ private:
     /// Drops the least recently used entries while the shard is over its
     /// share of the working limit.
     void evict_over_budget_locked(Shard& s) {
-        const std::size_t shard_budget = limit_per_shard_.load(std::memory_order_relaxed);
+        const std::size_t shard_budget = limit() / shards_.size();
         while (s.bytes > shard_budget && s.order.size() > k_min_entries) {
             Entry& victim = s.order.back();
             remember_evicted_locked(s, victim.key);
@@ -362,8 +354,7 @@ private:
 
     std::vector<Shard> shards_;
     std::atomic<std::size_t> budget_{0};  ///< the ceiling
-    std::atomic<std::size_t> limit_{0};   ///< what the shards keep now, summed
-    std::atomic<std::size_t> limit_per_shard_{0};
+    std::atomic<std::size_t> limit_{0};   ///< what the shards keep now, summed (each a 1/k_shards share)
     std::atomic<std::uint64_t> all_misses_{0};    ///< lookups that built, in the cache's life
     std::atomic<std::uint64_t> all_remisses_{0};  ///< of them, re-misses
     std::atomic<std::size_t> total_bytes_{0};
