@@ -29,6 +29,7 @@ namespace detail {
 struct FrontTally {
     std::atomic<std::size_t> fronts{0};      ///< threads holding at least one of its tiles
     std::atomic<std::size_t> tile_bytes{0};  ///< tiles held, each front counting its own
+    std::atomic<std::size_t> below_bytes{0}; ///< levels below parent tiles held (BelowParents)
 };
 
 /// A tile as the cache holds it, with the bytes it is charged (computed once,
@@ -101,54 +102,94 @@ struct Front {
 };
 
 /// The level below a parent tile's deepest one (Tile::below_deepest), kept
-/// by each thread for the parent's next children: the rays that reach one
-/// child mostly reach its siblings soon after, on the same thread, and the
-/// parent tile does not keep it (it is about 3x the rest of the tile). The
-/// bunny close-up computed 1,016 for 13 k child tiles with 32 slots
-/// (4,223 with 8, 3,003 with 16, 726 with 64): a row of pixels crosses
-/// about that many parents before the next row comes back to them.
-/// Keyed like the front, by hierarchy id and tile root: whichever build of
-/// the parent computed it, its bits are the same. Its bytes count in the
-/// hierarchy's front bytes.
+/// by each thread for the parent's next children (tile.h, LevelBelow): the
+/// rays that reach one child mostly reach its siblings soon after, on the
+/// same thread, and the parent tile does not keep it (it is about 3x the
+/// rest of the tile). The bunny close-up computed 1,016 for 13 k child
+/// tiles with 32 slots (4,223 with 8, 3,003 with 16, 726 with 64): a row of
+/// pixels crosses about that many parents before the next row comes back
+/// to them. Keyed like the front, by hierarchy id and tile root: whichever
+/// build of the parent computed it, its bits are the same. Its bytes count
+/// apart from the fronts' (HierarchyCounters::below_bytes).
 struct BelowParents {
     static constexpr std::size_t k_slots = 32;
+    /// Levels kept finished at once, the most recently built from: a
+    /// finished level holds about 4x its bytes.
+    static constexpr std::size_t k_finished = 8;
     struct Slot {
         std::uint64_t owner = 0;
         NodeId root;
-        std::shared_ptr<FrontTally> tally;  ///< set while the slot holds a patch
+        std::shared_ptr<FrontTally> tally;  ///< set while the slot holds a level
         std::size_t bytes = 0;
-        detail::Patch patch;
+        std::unique_ptr<detail::LevelBelow> level;
+        std::uint64_t last_built = 0;  ///< when a tile group last started from it
     };
     std::array<Slot, k_slots> slots;
     std::size_t next = 0;  ///< the slot replaced next (round robin)
+    std::uint64_t groups = 0;  ///< tile groups started so far
 
     /// The level below tile `root`'s deepest, if this thread has it.
-    const detail::Patch* find(std::uint64_t owner, const NodeId& root) const {
+    detail::LevelBelow* find(std::uint64_t owner, const NodeId& root) const {
         for (const Slot& s : slots)
-            if (s.tally && s.owner == owner && s.root == root) return &s.patch;
+            if (s.tally && s.owner == owner && s.root == root) return s.level.get();
         return nullptr;
     }
 
     /// The level below tile `root`'s deepest, computed if this thread has it not.
-    const detail::Patch& of(std::uint64_t owner, const NodeId& root, const detail::Tile& parent,
-                            const std::shared_ptr<FrontTally>& tally) {
-        if (const detail::Patch* found = find(owner, root)) return *found;
+    detail::LevelBelow& of(std::uint64_t owner, const NodeId& root, const detail::Tile& parent,
+                           const std::shared_ptr<FrontTally>& tally) {
+        if (detail::LevelBelow* found = find(owner, root)) return *found;
         Slot& s = slots[next];
         next = (next + 1) % k_slots;
         release(s);
-        s.patch = parent.below_deepest();
+        s.level = std::make_unique<detail::LevelBelow>(parent.below_deepest());
         s.owner = owner;
         s.root = root;
-        s.bytes = s.patch.owned_bytes();
+        s.bytes = s.level->owned_bytes();
         s.tally = tally;
-        tally->tile_bytes.fetch_add(s.bytes, std::memory_order_relaxed);
-        return s.patch;
+        tally->below_bytes.fetch_add(s.bytes, std::memory_order_relaxed);
+        return *s.level;
+    }
+
+    /// Before a tile group starts from `level`: if it is not finished and
+    /// k_finished others are, the one least recently started from is
+    /// unfinished.
+    void make_room(const detail::LevelBelow& level) {
+        if (level.finished()) return;
+        std::size_t finished = 0;
+        Slot* oldest = nullptr;
+        for (Slot& s : slots) {
+            if (!s.level || !s.level->finished()) continue;
+            ++finished;
+            if (!oldest || s.last_built < oldest->last_built) oldest = &s;
+        }
+        if (finished < k_finished || !oldest) return;
+        oldest->level->unfinish();
+        recharge(*oldest);
+    }
+
+    /// After a tile group started from `level`: it is the most recent, and
+    /// charged what it holds now (it grows as child tiles are built from it).
+    void started(const detail::LevelBelow& level) {
+        for (Slot& s : slots)
+            if (s.level.get() == &level) {
+                s.last_built = ++groups;
+                recharge(s);
+            }
+    }
+
+    static void recharge(Slot& s) {
+        if (!s.tally) return;
+        const std::size_t now = s.level->owned_bytes();
+        s.tally->below_bytes.fetch_add(now, std::memory_order_relaxed);
+        s.tally->below_bytes.fetch_sub(s.bytes, std::memory_order_relaxed);
+        s.bytes = now;
     }
 
     static void release(Slot& s) {
-        if (s.tally) s.tally->tile_bytes.fetch_sub(s.bytes, std::memory_order_relaxed);
+        if (s.tally) s.tally->below_bytes.fetch_sub(s.bytes, std::memory_order_relaxed);
         s.tally.reset();
-        s.patch = detail::Patch();
+        s.level.reset();
     }
 
     ~BelowParents() {
@@ -185,8 +226,8 @@ public:
             // Cut from the level below the parent where this thread has it
             // (the group's own start, cheaper than splitting the parent's band).
             const NodeId parent_root = detail::parent_tile_root(root);
-            if (const detail::Patch* below = BelowParents::mine().find(id, parent_root))
-                return detail::band_of_roots(*below, {root});
+            if (const detail::LevelBelow* below = BelowParents::mine().find(id, parent_root))
+                return detail::band_of_roots(below->patch(), {root});
             return tile(parent_root)->tile.band_of_child(root);
         };
         tiles.surfaces.fetch_add(1, std::memory_order_relaxed);
@@ -256,8 +297,11 @@ public:
                 // depend on the cache).
                 const NodeId parent_root = detail::parent_tile_root(root);
                 const std::shared_ptr<const CachedTile> parent = tile(parent_root);
-                start = std::make_unique<detail::TileGroup>(
-                    context, BelowParents::mine().of(id, parent_root, parent->tile, front_tally), roots);
+                BelowParents& below = BelowParents::mine();
+                detail::LevelBelow& level = below.of(id, parent_root, parent->tile, front_tally);
+                below.make_room(level);
+                start = std::make_unique<detail::TileGroup>(context, level, roots);
+                below.started(level);
             }
             std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
             for (const NodeId& r : roots) {
@@ -349,6 +393,7 @@ HierarchyCounters Hierarchy::counters() const {
     c.fronts = impl_->front_tally->fronts.load(std::memory_order_relaxed);
     c.front_bytes = c.fronts * sizeof(Front) +
                     impl_->front_tally->tile_bytes.load(std::memory_order_relaxed);
+    c.below_bytes = impl_->front_tally->below_bytes.load(std::memory_order_relaxed);
     return c;
 }
 

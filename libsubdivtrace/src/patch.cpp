@@ -604,11 +604,23 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
 
 void Patch::compute_positions(const BaseTopology& topo, const SchemeRules& scheme, Patch& next,
                               const Flags* needed) {
-    const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
+    start_positions(scheme, next);
     const auto wanted = [&](std::uint32_t nv) { return needed == nullptr || (*needed)[nv]; };
+    const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
+    if (scheme.moves_old_vertices())
+        for (std::uint32_t v = 0; v < old_count; ++v)
+            if (wanted(v)) compute_point(topo, scheme, next, v);
+    // An edge point the caller does not keep is skipped: its endpoints'
+    // displacement is then only read where all their edges' points are kept
+    // (the region's corners, patch.h).
+    for (std::uint32_t e = 0; e < edges.size(); ++e)
+        if (wanted(old_count + e)) compute_point(topo, scheme, next, old_count + e);
+}
 
-    // Old vertices: interpolating schemes keep them; Loop moves them.
-    VertexRing ring;
+void Patch::start_positions(const SchemeRules& scheme, Patch& next) {
+    const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
+    // Old vertices: interpolating schemes keep them (Loop moves them in
+    // compute_point).
     if (!draw.empty()) {
         next.draw.assign(next.verts.size(), Vec3(0.0));
         std::copy(draw.begin(), draw.end(), next.draw.begin());
@@ -620,38 +632,70 @@ void Patch::compute_positions(const BaseTopology& topo, const SchemeRules& schem
         if (!scheme.moves_old_vertices()) {
             nv.position = pv.position;
             nv.has_position = pv.has_position;
-        } else if (derived[v].has_ring && wanted(v)) {
-            fill_vertex_ring(v, ring);
-            nv.position = scheme.vertex_rule(ring);
-            nv.has_position = true;
         }
         derived[v].displacement = 0.0;
         derived[v].has_displacement = derived[v].has_ring;
     }
-
-    // Edge points, and the displacement each causes at its endpoints. An
-    // edge point the caller does not keep is skipped: its endpoints'
-    // displacement is then only read where all their edges' points are kept
-    // (the region's corners, patch.h).
+    // An edge point that cannot be computed leaves its endpoints'
+    // displacement incomplete.
     for (std::uint32_t e = 0; e < edges.size(); ++e) {
         PatchEdge& edge = edges[e];
         edge.point = old_count + e;
-        PatchVertex& nv = next.verts[edge.point];
         if (!edge.valid) {
             derived[edge.a].has_displacement = false;
             derived[edge.b].has_displacement = false;
-            continue;
         }
-        if (!wanted(edge.point)) continue;
-        if (scheme.edge_rule_reads_normals) {
-            ensure_normal(topo, scheme, edge.a);
-            ensure_normal(topo, scheme, edge.b);
-        }
-        nv.position = edge_point(scheme, edge);
+    }
+}
+
+void Patch::compute_point(const BaseTopology& topo, const SchemeRules& scheme, Patch& next,
+                          std::uint32_t point) {
+    const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
+    PatchVertex& nv = next.verts[point];
+    if (point < old_count) {
+        // Loop moves old vertices (the others were copied by start_positions).
+        if (!scheme.moves_old_vertices() || !derived[point].has_ring) return;
+        thread_local VertexRing ring;
+        fill_vertex_ring(point, ring);
+        nv.position = scheme.vertex_rule(ring);
         nv.has_position = true;
-        const double d = glm::length(nv.position - (verts[edge.a].position + verts[edge.b].position) * 0.5);
-        derived[edge.a].displacement = std::max(derived[edge.a].displacement, d);
-        derived[edge.b].displacement = std::max(derived[edge.b].displacement, d);
+        return;
+    }
+    // An edge point, and the displacement it causes at its endpoints (a
+    // maximum: the same bits in whatever order points are computed).
+    const PatchEdge& edge = edges[point - old_count];
+    if (!edge.valid) return;
+    if (scheme.edge_rule_reads_normals) {
+        ensure_normal(topo, scheme, edge.a);
+        ensure_normal(topo, scheme, edge.b);
+    }
+    nv.position = edge_point(scheme, edge);
+    nv.has_position = true;
+    const double d = glm::length(nv.position - (verts[edge.a].position + verts[edge.b].position) * 0.5);
+    derived[edge.a].displacement = std::max(derived[edge.a].displacement, d);
+    derived[edge.b].displacement = std::max(derived[edge.b].displacement, d);
+}
+
+void Patch::add_points_around(const BaseTopology& topo, const SchemeRules& scheme,
+                              const std::vector<std::uint32_t>& region, Patch& next, Flags& done) {
+    const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
+    const auto add = [&](std::uint32_t point) {
+        if (done[point]) return;
+        done[point] = 1;
+        compute_point(topo, scheme, next, point);
+    };
+    // As points_around: each corner, and the edge points at it.
+    for (std::uint32_t t : region) {
+        for (std::uint32_t v : tris[t].v) {
+            if (done[v]) continue;  // its edge points were added with it
+            add(v);
+            for (std::uint32_t k = incident_offsets[v]; k < incident_offsets[v + 1]; ++k) {
+                const std::uint32_t slot = incident_slots[k];
+                const std::uint32_t first = slot - slot % 3;
+                add(old_count + tri_edges[slot]);                        // v -> next corner
+                add(old_count + tri_edges[first + (slot % 3 + 2) % 3]);  // previous -> v
+            }
+        }
     }
 }
 

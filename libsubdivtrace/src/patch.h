@@ -177,6 +177,17 @@ public:
     /// in `region`: their vertices (moved by Loop) and every edge point at them.
     Flags points_around(const Flags& region) const;
 
+    /// next_positions() a few triangles at a time, for a patch whose next
+    /// level's points are asked for by several tiles in turn (the level
+    /// below a parent tile, shared by its child tiles): start_positions()
+    /// once, on `next` sized to verts.size() + edges.size(); then each
+    /// add_points_around() computes the points_around() the triangles listed
+    /// in `region` that `done` (one flag per point) does not flag yet, and
+    /// flags them. The same bits as one next_positions() of all of them.
+    void start_positions(const SchemeRules& scheme, Patch& next);
+    void add_points_around(const BaseTopology& topo, const SchemeRules& scheme,
+                           const std::vector<std::uint32_t>& region, Patch& next, Flags& done);
+
     /// The per-vertex displacement of the next level, then the next level's
     /// patch (every triangle split 1-to-4), with only the points of its
     /// triangles in band(in_region) computed (the rest of the border is cut
@@ -249,6 +260,10 @@ private:
     Patch subdivide_topology(const BaseTopology& topo) const;
     void compute_positions(const BaseTopology& topo, const SchemeRules& scheme, Patch& next,
                            const Flags* needed);
+    /// Next-level point `point` (old vertex v, or vertices + e for edge e),
+    /// where its stencil is whole (after start_positions).
+    void compute_point(const BaseTopology& topo, const SchemeRules& scheme, Patch& next,
+                       std::uint32_t point);
     void finish_vertex(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v);
     Vec3 edge_point(const SchemeRules& scheme, const PatchEdge& e) const;
     void fill_curve_end(std::uint32_t v, std::uint32_t other, bool& has_far, Vec3& far,

@@ -115,63 +115,19 @@ std::vector<NodeId> tile_group_of(const NodeId& root) {
     return group;
 }
 
-TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count)
-    : tiles_(count), faces_(faces, faces + count) {
-    const BuildTimer timer(ctx.build_ns);
-    const auto in_chunk = [&](const NodeId& id) { return std::binary_search(faces, faces + count, id.face); };
-    Patch base = base_patch(ctx.topo, faces, count);
-    base.finish(ctx.topo, ctx.scheme);
-    if (ctx.roots) ctx.roots->lend_normals(base);
-    Flags kept;
-    level_ = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
-    level_.keep_only(kept);
-    prepare(ctx, in_chunk);
-    // Each face's triangles, in ascending order (a counting sort).
-    face_tri_offsets_.assign(count + 1, 0);
-    std::vector<std::uint32_t> position(level_.tris.size(), UINT32_MAX);
-    for (std::uint32_t t = 0; t < level_.tris.size(); ++t) {
-        const auto it = std::lower_bound(faces_.begin(), faces_.end(), level_.tris[t].id.face);
-        if (it == faces_.end() || *it != level_.tris[t].id.face) continue;
-        position[t] = static_cast<std::uint32_t>(it - faces_.begin());
-        ++face_tri_offsets_[position[t] + 1];
-    }
-    for (std::size_t k = 0; k < count; ++k) face_tri_offsets_[k + 1] += face_tri_offsets_[k];
-    face_tris_.resize(face_tri_offsets_.back());
-    std::vector<std::uint32_t> fill(face_tri_offsets_.begin(), face_tri_offsets_.end() - 1);
-    for (std::uint32_t t = 0; t < level_.tris.size(); ++t)
-        if (position[t] != UINT32_MAX) face_tris_[fill[position[t]]++] = t;
-}
+namespace {
 
-template <class InRoot>
-std::vector<std::uint32_t> TileGroup::triangles_of(const NodeId& root, InRoot in_root) const {
-    if (root.level == 0 && !faces_.empty()) {
-        const auto it = std::lower_bound(faces_.begin(), faces_.end(), root.face);
-        if (it != faces_.end() && *it == root.face) {
-            const std::size_t k = static_cast<std::size_t>(it - faces_.begin());
-            return {face_tris_.begin() + face_tri_offsets_[k], face_tris_.begin() + face_tri_offsets_[k + 1]};
-        }
-    }
-    std::vector<std::uint32_t> tris;
-    for (std::uint32_t t = 0; t < level_.tris.size(); ++t)
-        if (in_root(level_.tris[t].id)) tris.push_back(t);
-    return tris;
-}
-
-Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots) {
-    // The roots' children and their border, cut from the level below the
-    // parent (its siblings are cut from the same patch, whose incident lists
-    // below_deepest() built once, so each cut costs its own size).
-    if (!below_parent.has_incidence())
-        throw std::logic_error("subdivtrace tile: a child tile's start has no incident lists (Tile::below_deepest builds them)");
-    // Its triangles are in the hierarchy's order (patch.h), so each root's
-    // descendants are a contiguous run, found by binary search (a scan of
-    // the whole patch per group was 1.5% of a close-up's instructions).
+/// The triangles of `p` below the roots (one face and level), ascending. Its
+/// triangles are in the hierarchy's order (patch.h), so each root's
+/// descendants are a contiguous run, found by binary search (a scan of the
+/// whole patch per group was 1.5% of a close-up's instructions).
+std::vector<std::uint32_t> triangles_below(const Patch& p, const std::vector<NodeId>& roots) {
     const std::uint32_t face = roots.front().face;
     std::vector<std::pair<std::uint64_t, std::uint64_t>> spans;
     spans.reserve(roots.size());
     for (const NodeId& r : roots) spans.push_back(depth_first_span(r));
     std::sort(spans.begin(), spans.end());
-    const std::vector<PatchTriangle>& tris = below_parent.tris;
+    const std::vector<PatchTriangle>& tris = p.tris;
     const auto before = [&](const PatchTriangle& t, std::uint64_t key) {
         return t.id.face != face ? t.id.face < face : depth_first_key(t.id) < key;
     };
@@ -181,57 +137,125 @@ Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots)
         const auto to = std::lower_bound(from, tris.end(), last, before);
         for (auto it = from; it != to; ++it) region.push_back(static_cast<std::uint32_t>(it - tris.begin()));
     }
-    return Patch::copy_of(below_parent, below_parent.band_around(region));
+    return region;
 }
 
-TileGroup::TileGroup(const TileContext& ctx, const Patch& below_parent, std::vector<NodeId> roots)
+}  // namespace
+
+TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count)
+    : tiles_(count), owns_level_(true), faces_(faces, faces + count) {
+    const BuildTimer timer(ctx.build_ns);
+    const auto in_chunk = [&](const NodeId& id) { return std::binary_search(faces, faces + count, id.face); };
+    Patch base = base_patch(ctx.topo, faces, count);
+    base.finish(ctx.topo, ctx.scheme);
+    if (ctx.roots) ctx.roots->lend_normals(base);
+    Flags kept;
+    own_level_ = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
+    own_level_.keep_only(kept);
+    finish_for_records(ctx, own_level_, in_chunk, own_next_);
+    own_memo_ = std::make_unique<ShadingMemo>(own_level_);
+    level_ = &own_level_;
+    next_ = &own_next_;
+    memo_ = own_memo_.get();
+    // Each face's triangles, in ascending order (a counting sort).
+    face_tri_offsets_.assign(count + 1, 0);
+    std::vector<std::uint32_t> position(own_level_.tris.size(), UINT32_MAX);
+    for (std::uint32_t t = 0; t < own_level_.tris.size(); ++t) {
+        const auto it = std::lower_bound(faces_.begin(), faces_.end(), own_level_.tris[t].id.face);
+        if (it == faces_.end() || *it != own_level_.tris[t].id.face) continue;
+        position[t] = static_cast<std::uint32_t>(it - faces_.begin());
+        ++face_tri_offsets_[position[t] + 1];
+    }
+    for (std::size_t k = 0; k < count; ++k) face_tri_offsets_[k + 1] += face_tri_offsets_[k];
+    face_tris_.resize(face_tri_offsets_.back());
+    std::vector<std::uint32_t> fill(face_tri_offsets_.begin(), face_tri_offsets_.end() - 1);
+    for (std::uint32_t t = 0; t < own_level_.tris.size(); ++t)
+        if (position[t] != UINT32_MAX) face_tris_[fill[position[t]]++] = t;
+}
+
+std::vector<std::uint32_t> TileGroup::triangles_of(const NodeId& root) const {
+    if (root.level > 0) return triangles_below(*level_, {root});
+    const auto it = std::lower_bound(faces_.begin(), faces_.end(), root.face);
+    if (it == faces_.end() || *it != root.face)
+        throw std::logic_error("subdivtrace tile: a base triangle's tile built from a group without its face");
+    const std::size_t k = static_cast<std::size_t>(it - faces_.begin());
+    return {face_tris_.begin() + face_tri_offsets_[k], face_tris_.begin() + face_tri_offsets_[k + 1]};
+}
+
+Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots) {
+    // The roots' children and their border, cut from the level below the
+    // parent (its siblings are cut from the same patch, whose incident lists
+    // below_deepest() built once, so each cut costs its own size).
+    if (!below_parent.has_incidence())
+        throw std::logic_error("subdivtrace tile: a child tile's start has no incident lists (Tile::below_deepest builds them)");
+    return Patch::copy_of(below_parent, below_parent.band_around(triangles_below(below_parent, roots)));
+}
+
+LevelBelow::LevelBelow(Patch below) : level_(std::move(below)) {
+    if (!level_.has_incidence())
+        throw std::logic_error("subdivtrace tile: a child tile's start has no incident lists (Tile::below_deepest builds them)");
+}
+
+LevelBelow::~LevelBelow() = default;
+
+void LevelBelow::prepare(const TileContext& ctx, const std::vector<std::uint32_t>& tris) {
+    if (!finished_) {
+        level_.finish(ctx.topo, ctx.scheme);
+        next_.level = level_.level + 1;
+        next_.verts.assign(level_.verts.size() + level_.edges.size(), PatchVertex{});
+        level_.start_positions(ctx.scheme, next_);
+        next_done_.assign(next_.verts.size(), 0);
+        memo_ = std::make_unique<ShadingMemo>(level_);
+        finished_ = true;
+    }
+    // At max_level too: the corners' displacement tells a leaf there that
+    // the rule would have refined it.
+    level_.add_points_around(ctx.topo, ctx.scheme, tris, next_, next_done_);
+}
+
+void LevelBelow::unfinish() {
+    if (!finished_) return;
+    level_.give_back_derived();
+    level_.build_incidence();  // band_of_roots cuts through them
+    next_ = Patch();
+    Flags().swap(next_done_);
+    memo_.reset();
+    finished_ = false;
+}
+
+std::size_t LevelBelow::owned_bytes() const {
+    std::size_t bytes = level_.owned_bytes() + next_.owned_bytes() + next_done_.capacity();
+    if (memo_)
+        bytes += sizeof(ShadingMemo) + (memo_->corner.capacity() + memo_->edge.capacity()) * sizeof(Vec3) +
+                 memo_->corner_done.capacity() + memo_->edge_done.capacity();
+    return bytes;
+}
+
+TileGroup::TileGroup(const TileContext& ctx, LevelBelow& below, const std::vector<NodeId>& roots)
     : tiles_(roots.size()) {
     const BuildTimer timer(ctx.build_ns);
-    // The roots share their face and level: a triangle is in the group when
-    // its ancestor at that level is one of them, found by binary search over
-    // their grid keys (a linear search over up to 64 roots, per triangle of
-    // the patch it is cut from, was 2% of a close-up's instructions).
-    const int level = roots.front().level;
-    const std::uint32_t face = roots.front().face;
-    const auto grid_key = [](const NodeId& id) {
-        return (std::uint64_t{id.i} << 33) | (std::uint64_t{id.j} << 1) | (id.down ? 1u : 0u);
-    };
-    std::vector<std::uint64_t> root_keys;
-    root_keys.reserve(roots.size());
-    for (const NodeId& r : roots) root_keys.push_back(grid_key(r));
-    std::sort(root_keys.begin(), root_keys.end());
-    const auto in_group = [&](const NodeId& id) {
-        if (id.level <= level || id.face != face) return false;
-        return std::binary_search(root_keys.begin(), root_keys.end(), grid_key(ancestor_at(id, level)));
-    };
-    level_ = band_of_roots(below_parent, roots);
-    prepare(ctx, in_group);
-}
-
-template <class InGroup>
-void TileGroup::prepare(const TileContext& ctx, InGroup in_group) {
-    finish_for_records(ctx, level_, in_group, next_);
-    memo_ = std::make_unique<ShadingMemo>(level_);
+    below.prepare(ctx, triangles_below(below.level_, roots));
+    level_ = &below.level_;
+    next_ = &below.next_;
+    memo_ = below.memo_.get();
 }
 
 TileGroup::~TileGroup() {
-    level_.give_back_derived();  // its arrays serve the next patch this thread finishes
+    if (owns_level_) own_level_.give_back_derived();  // its arrays serve the next patch this thread finishes
 }
 
 Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     : ctx_(&ctx), root_(root), depth_(std::min(k_tile_depth, ctx.max_level - root.level)) {
     const BuildTimer timer(ctx.build_ns);
-    Patch& q = group.level_;
-    // A base triangle's tile holds every triangle of its face.
-    const auto in_root = [&](const NodeId& id) { return root.level == 0 ? id.face == root.face : in_tile(id); };
-    const std::vector<std::uint32_t> tile_tris = group.triangles_of(root, in_root);
-    fill_level(1, q, group.next_, *group.memo_, tile_tris);
+    Patch& q = *group.level_;
+    const std::vector<std::uint32_t> tile_tris = group.triangles_of(root);
+    fill_level(1, q, *group.next_, *group.memo_, tile_tris);
     // The frontier a lone tile would keep: its triangles and their border,
     // without rings and edges (a copy each: a patch shared by the group
     // outlived the tiles that were charged for it once some were evicted).
     // A group of one is that band already, in the same order: taken whole.
     if (needs_frontier(1)) {
-        if (group.tiles_ == 1) {
+        if (group.tiles_ == 1 && group.owns_level_) {
             frontier_ = std::make_unique<Patch>(std::move(q));
             frontier_->drop_derived();
         } else {

@@ -56,10 +56,51 @@ struct TileContext {
     std::function<Patch(const NodeId& root)> child_start;
 };
 
+/// The level below a parent tile's deepest one (Tile::below_deepest: its
+/// triangles' children and their border, with incident lists), as a thread
+/// keeps it for the parent's child tiles (hierarchy.cpp). Their later
+/// levels start from bands cut from it (band_of_roots); their first levels
+/// are its own triangles, so it is finished once, when the first child
+/// tile is built from it, and each child tile then computes only the next
+/// level's points around its triangles that no sibling computed before, and
+/// shares the siblings' normals (every value is summed in canonical order,
+/// so the bits are those of the child's band finished alone). Building
+/// each child tile from its own band finished 31 bands of about 50
+/// triangles per parent in the blob5k close-up, where the parent's level
+/// has about 400, and computed each border vertex's normals once per band.
+class LevelBelow {
+public:
+    explicit LevelBelow(Patch below);
+    ~LevelBelow();
+    LevelBelow(const LevelBelow&) = delete;
+    LevelBelow& operator=(const LevelBelow&) = delete;
+    /// The level, unfinished until a tile group starts from it.
+    const Patch& patch() const { return level_; }
+    /// Heap bytes held (it grows as child tiles are built from it).
+    std::size_t owned_bytes() const;
+    /// Whether a tile group has finished it (and it holds what that derived).
+    bool finished() const { return finished_; }
+    /// Frees what finishing derived (the next tile group finishes it
+    /// again, with the same bits): finished, it holds about 4x its bytes.
+    void unfinish();
+
+private:
+    friend class TileGroup;
+    /// Finishes the level if it is not yet, and computes the next level's
+    /// points around the triangles `tris` (ascending) not computed yet.
+    void prepare(const TileContext& ctx, const std::vector<std::uint32_t>& tris);
+    Patch level_;
+    bool finished_ = false;
+    Patch next_;
+    Flags next_done_;  ///< per point of next_: computed
+    std::unique_ptr<ShadingMemo> memo_;
+};
+
 /// The first level of a group of tiles, computed once for all of them: the
 /// level's triangles of every tile in the group with their border, finished,
 /// and the next level's points their records read. A group is a chunk of
-/// base triangles (face_chunks.h), or tiles below one tile (tile_group_of).
+/// base triangles (face_chunks.h), or tiles below one tile (tile_group_of),
+/// whose first level is the parent's LevelBelow.
 /// Each tile takes its records and its frontier (its own triangles and their
 /// border) from it, with the same bits it would compute alone (every value is summed in canonical order): a lone
 /// tile is a group of one.
@@ -67,34 +108,35 @@ class TileGroup {
 public:
     /// Base triangles' tiles: `count` faces, ascending.
     TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count);
-    /// Tiles rooted at `roots`, nodes of the deepest level of the tile whose
-    /// below_deepest() is `below_parent`.
-    TileGroup(const TileContext& ctx, const Patch& below_parent, std::vector<NodeId> roots);
+    /// Tiles rooted at `roots` (one face and level), nodes of the deepest
+    /// level of the tile whose below_deepest() `below` holds. `below` must
+    /// outlive the group.
+    TileGroup(const TileContext& ctx, LevelBelow& below, const std::vector<NodeId>& roots);
     ~TileGroup();
     TileGroup(const TileGroup&) = delete;
     TileGroup& operator=(const TileGroup&) = delete;
 
 private:
     friend class Tile;
-    /// Finishes the level, computes the next level's points around the
-    /// triangles `in_group` accepts, and the shading memo.
-    template <class InGroup>
-    void prepare(const TileContext& ctx, InGroup in_group);
-    /// The triangles of level_ in tile `root` (ascending), and the test
-    /// that picks them.
-    template <class InRoot>
-    std::vector<std::uint32_t> triangles_of(const NodeId& root, InRoot in_root) const;
-    /// Tiles it is for: a lone tile takes level_ as its frontier (Tile::Tile).
+    /// The triangles of the level in tile `root` (ascending).
+    std::vector<std::uint32_t> triangles_of(const NodeId& root) const;
+    /// Tiles it is for: a lone base tile takes the level as its frontier (Tile::Tile).
     std::size_t tiles_;
-    Patch level_;
-    /// A chunk's faces (ascending) and, per face, its triangles in level_
+    /// The level, the next level's points and the shading memo: the group's
+    /// own (base triangles), or a LevelBelow's.
+    Patch* level_ = nullptr;
+    const Patch* next_ = nullptr;
+    ShadingMemo* memo_ = nullptr;
+    bool owns_level_ = false;
+    Patch own_level_;
+    Patch own_next_;
+    std::unique_ptr<ShadingMemo> own_memo_;
+    /// A chunk's faces (ascending) and, per face, its triangles in the level
     /// (CSR): each base triangle's tile finds its own without scanning the
     /// chunk's level, which made a chunk's tiles cost its size squared.
     std::vector<std::uint32_t> faces_;
     std::vector<std::uint32_t> face_tri_offsets_;
     std::vector<std::uint32_t> face_tris_;
-    Patch next_;
-    std::unique_ptr<ShadingMemo> memo_;
 };
 
 /// Tiles below another may be built in groups: the 4^k_group_levels tile
@@ -110,8 +152,8 @@ std::vector<NodeId> tile_group_of(const NodeId& root);
 
 /// The children of tile roots `roots` (one face and level) with their
 /// border, cut from `below_parent` (Tile::below_deepest of the tile whose
-/// deepest level holds them; with incident lists): a group's first level,
-/// not finished.
+/// deepest level holds them; with incident lists), not finished: where a
+/// child tile's later levels start.
 Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots);
 
 /// What a tile keeps of one grid point of a level: a node record's corner

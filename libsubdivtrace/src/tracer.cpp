@@ -627,6 +627,7 @@ SurfaceStats AdaptiveSurface::stats() const {
     s.memory.roots = h.root_bytes;
     s.memory.fronts = h.front_bytes;
     s.memory.front_threads = h.fronts;
+    s.memory.levels_below = h.below_bytes;
     s.base_triangles = m.triangles.size();
     for (const auto& c : impl_->level_histogram) s.leaf_level_histogram.push_back(c.load());
     while (!s.leaf_level_histogram.empty() && s.leaf_level_histogram.back() == 0)

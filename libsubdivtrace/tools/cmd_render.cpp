@@ -142,7 +142,8 @@ std::string stats_json(const RenderArgs& a, double build_s, const RenderStats& r
         const double faces = std::max<double>(1.0, static_cast<double>(ss->base_triangles));
         j << "  \"memory_bytes\": {\"mesh\": " << m.mesh << ", \"topology\": " << m.topology
           << ", \"bvh\": " << m.bvh << ", \"roots\": " << m.roots << ", \"fronts\": " << m.fronts
-          << ", \"front_threads\": " << m.front_threads << ", \"cache\": " << ss->cache_bytes
+          << ", \"front_threads\": " << m.front_threads << ", \"levels_below\": " << m.levels_below
+          << ", \"cache\": " << ss->cache_bytes
           << ", \"cache_peak\": " << ss->cache_peak_bytes << "},\n";
         j << "  \"base_triangles\": " << ss->base_triangles << ",\n";
         j << "  \"base_bytes_per_triangle\": " << m.base() / faces << ",\n";

@@ -97,6 +97,9 @@ TEST_CASE("per-thread fronts are counted while their threads hold them", "[memor
     const SurfaceStats after = surface.stats();
     CHECK(after.memory.front_threads == 1);
     CHECK(after.memory.fronts == one.memory.fronts);  // this thread's front, unchanged
+    // So are the levels below parent tiles this thread keeps; the other
+    // thread's went with it.
+    CHECK(after.memory.levels_below == one.memory.levels_below);
 }
 
 TEST_CASE("cache evictions count tiles dropped, never more than tiles built", "[memory][cache]") {

@@ -149,8 +149,20 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 const std::vector<NodeId> siblings{child_of(above, 0), child_of(above, 1), child_of(above, 2),
                                                    child_of(above, 3)};
                 REQUIRE(std::count(siblings.begin(), siblings.end(), child_root) == 1);
-                TileGroup child_alone_group(ctx, alone.below_deepest(), {child_root});
-                TileGroup child_siblings(ctx, with_chunk.below_deepest(), siblings);
+                // Alone: from its own band, cut and finished as if nothing
+                // else were below the parent. With siblings: from the whole
+                // level below the parent, after siblings finished it and
+                // computed the points and normals they share with it.
+                Patch band = band_of_roots(alone.below_deepest(), {child_root});
+                band.build_incidence();
+                LevelBelow own_band(std::move(band));
+                LevelBelow below_with_chunk(with_chunk.below_deepest());
+                TileGroup child_alone_group(ctx, own_band, {child_root});
+                std::vector<NodeId> others;
+                for (const NodeId& s : siblings)
+                    if (!(s == child_root)) others.push_back(s);
+                const TileGroup siblings_first(ctx, below_with_chunk, others);
+                TileGroup child_siblings(ctx, below_with_chunk, {child_root});
                 const Tile child_alone(ctx, child_root, child_alone_group);
                 const Tile child_with_siblings(ctx, child_root, child_siblings);
                 compare(child_alone, child_with_siblings, child_root, 3);
@@ -161,7 +173,8 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 TileContext from_below = ctx;
                 const Patch below = alone.below_deepest();
                 from_below.child_start = [&](const NodeId& r) { return band_of_roots(below, {r}); };
-                TileGroup child_from_below_group(from_below, below, {child_root});
+                LevelBelow level_below(below);
+                TileGroup child_from_below_group(from_below, level_below, {child_root});
                 const Tile child_from_below(from_below, child_root, child_from_below_group);
                 compare(child_alone, child_from_below, child_root, 3);
             }

@@ -76,6 +76,9 @@ struct HierarchyCounters {
     /// counted once per front; most are in the cache too, so this overlaps it).
     std::size_t front_bytes = 0;
     std::size_t fronts = 0;         ///< threads holding a front of this hierarchy
+    /// The levels below parent tiles the threads keep for child tiles to
+    /// start from (tile.h, LevelBelow), a few finished.
+    std::size_t below_bytes = 0;
 };
 
 class HierarchyImpl;

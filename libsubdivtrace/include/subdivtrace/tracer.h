@@ -172,7 +172,10 @@ struct SurfaceMemory {
     /// those tiles are in the cache too, so fronts + cache over-counts them.
     std::size_t fronts = 0;
     std::size_t front_threads = 0;  ///< threads holding a front
-    /// Everything but the cache and the fronts: fixed once the surface is built.
+    /// Per thread, the levels below recent parent tiles that child tiles
+    /// start from (a few finished, shared by the parent's child tiles).
+    std::size_t levels_below = 0;
+    /// Everything but the cache, the fronts and the levels below: fixed once the surface is built.
     std::size_t base() const { return mesh + topology + bvh + roots; }
 };
 
