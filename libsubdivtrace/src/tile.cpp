@@ -191,10 +191,7 @@ Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots)
     return Patch::copy_of(below_parent, below_parent.band_around(triangles_below(below_parent, roots)));
 }
 
-LevelBelow::LevelBelow(Patch below) : level_(std::move(below)) {
-    if (!level_.has_incidence())
-        throw std::logic_error("subdivtrace tile: a child tile's start has no incident lists (Tile::below_deepest builds them)");
-}
+LevelBelow::LevelBelow(Patch below) : level_(std::move(below)) {}
 
 LevelBelow::~LevelBelow() = default;
 

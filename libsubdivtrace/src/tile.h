@@ -70,6 +70,8 @@ struct TileContext {
 /// has about 400, and computed each border vertex's normals once per band.
 class LevelBelow {
 public:
+    /// `below`: a level below a parent tile (with incident lists, for
+    /// band_of_roots), or a child's band cut from one.
     explicit LevelBelow(Patch below);
     ~LevelBelow();
     LevelBelow(const LevelBelow&) = delete;

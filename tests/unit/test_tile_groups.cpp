@@ -153,9 +153,7 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 // else were below the parent. With siblings: from the whole
                 // level below the parent, after siblings finished it and
                 // computed the points and normals they share with it.
-                Patch band = band_of_roots(alone.below_deepest(), {child_root});
-                band.build_incidence();
-                LevelBelow own_band(std::move(band));
+                LevelBelow own_band(band_of_roots(alone.below_deepest(), {child_root}));
                 LevelBelow below_with_chunk(with_chunk.below_deepest());
                 TileGroup child_alone_group(ctx, own_band, {child_root});
                 std::vector<NodeId> others;
