@@ -60,9 +60,10 @@ struct TileContext {
 /// triangles' children and their border, with incident lists), as a thread
 /// keeps it for the parent's child tiles (hierarchy.cpp). Their later
 /// levels start from bands cut from it (band_of_roots); their first levels
-/// are its own triangles, so it is finished once, when the first child
-/// tile is built from it, and each child tile then computes only the next
-/// level's points around its triangles that no sibling computed before, and
+/// are its own triangles, so it is finished once (once a few tile groups
+/// have started from it, hierarchy.cpp's BelowParents::worth_finishing;
+/// the first ones cut their own band), and each child tile then computes
+/// only the next level's points around its triangles that no sibling computed before, and
 /// shares the siblings' normals (every value is summed in canonical order,
 /// so the bits are those of the child's band finished alone). Building
 /// each child tile from its own band finished 31 bands of about 50
