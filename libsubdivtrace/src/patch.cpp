@@ -143,6 +143,22 @@ struct SlotPair {
     std::uint32_t slot;
 };
 
+/// The part of `offset` (an edge point's, from edge `e`'s midpoint) along
+/// the surface normal there, estimated as the normal to the edge and to the
+/// diagonal between its two triangles' third vertices; the whole offset on a
+/// boundary, a crease or a non-manifold edge. Taking the triangles in the
+/// other order negates that normal exactly, so every patch that holds the
+/// edge gets the same bits.
+double normal_offset(const Patch& p, const PatchEdge& e, const Vec3& offset) {
+    if (e.curve || e.slot_count != 2) return glm::length(offset);
+    const auto third = [&](std::uint32_t slot) { return p.tris[slot / 3].v[(slot % 3 + 2) % 3]; };
+    const Vec3 normal = glm::cross(p.verts[e.b].position - p.verts[e.a].position,
+                                   p.verts[third(e.slot[0])].position - p.verts[third(e.slot[1])].position);
+    const double length = glm::length(normal);
+    if (!(length > 0.0) || !std::isfinite(length)) return glm::length(offset);
+    return std::abs(glm::dot(offset, normal)) / length;
+}
+
 /// True if the vertex can lie on a curve: a base vertex at a boundary or
 /// crease, or a point of a base edge between two such vertices.
 bool may_be_on_curve(const BaseTopology& topo, const VertexKey& key) {
@@ -634,6 +650,7 @@ void Patch::start_positions(const SchemeRules& scheme, Patch& next) {
             nv.has_position = pv.has_position;
         }
         derived[v].displacement = 0.0;
+        derived[v].deviation = 0.0;
         derived[v].has_displacement = derived[v].has_ring;
     }
     // An edge point that cannot be computed leaves its endpoints'
@@ -671,9 +688,13 @@ void Patch::compute_point(const BaseTopology& topo, const SchemeRules& scheme, P
     }
     nv.position = edge_point(scheme, edge);
     nv.has_position = true;
-    const double d = glm::length(nv.position - (verts[edge.a].position + verts[edge.b].position) * 0.5);
-    derived[edge.a].displacement = std::max(derived[edge.a].displacement, d);
-    derived[edge.b].displacement = std::max(derived[edge.b].displacement, d);
+    const Vec3 offset = nv.position - (verts[edge.a].position + verts[edge.b].position) * 0.5;
+    const double d = glm::length(offset);
+    const double deviation = scheme.sagitta_per_normal_offset * normal_offset(*this, edge, offset);
+    for (const std::uint32_t end : {edge.a, edge.b}) {
+        derived[end].displacement = std::max(derived[end].displacement, d);
+        derived[end].deviation = std::max(derived[end].deviation, deviation);
+    }
 }
 
 void Patch::add_points_around(const BaseTopology& topo, const SchemeRules& scheme,

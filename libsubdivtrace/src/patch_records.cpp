@@ -167,7 +167,7 @@ NodeRecord make_record(const TileContext& ctx, const Patch& p, const Patch* next
         rec.draw_position[c] = p.drawn_at(tri.v[c]);
         rec.shading_normal[c] = quadratic ? shading_normal(ctx, p, *next, t, c, memo) : p.corner_normal[3 * t + c];
         if (refinable && !d.has_displacement) stencil_cut("an edge point next to a corner");
-        rec.displacement[c] = refinable ? round_up(d.displacement) : 0.0f;
+        rec.displacement[c] = refinable ? round_up(d.deviation) : 0.0f;
     }
     for (int e = 0; e < 3; ++e)
         rec.edge_normal[e] = glm::vec3(quadratic ? edge_midpoint_normal(ctx, p, *next, t, e, memo) : Vec3(0.0));

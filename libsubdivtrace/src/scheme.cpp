@@ -289,15 +289,18 @@ Vec3 normal_scheme_edge_point(const EdgeStencil& s) {
 constexpr detail::SchemeRules k_normal_rules{
     SchemeKind::normal, "normal", nullptr, normal_scheme_edge_point, normal_edge_point, nullptr, nullptr, nullptr,
     /*edge_rule_reads_normals=*/true, /*edge_rule_reads_opposites=*/false,
-    /*edge_rule_reads_rings=*/false, /*convex_rules=*/false, /*takes_given_normals=*/true};
+    /*edge_rule_reads_rings=*/false, /*convex_rules=*/false, /*takes_given_normals=*/true,
+    /*sagitta_per_normal_offset=*/1.0};
 constexpr detail::SchemeRules k_loop_rules{
     SchemeKind::loop, "loop", loop_vertex_point, loop_edge_point, nullptr, nullptr, loop_limit_point, loop_limit_normal,
     /*edge_rule_reads_normals=*/false, /*edge_rule_reads_opposites=*/true,
-    /*edge_rule_reads_rings=*/false, /*convex_rules=*/true, /*takes_given_normals=*/false};
+    /*edge_rule_reads_rings=*/false, /*convex_rules=*/true, /*takes_given_normals=*/false,
+    /*sagitta_per_normal_offset=*/2.0};
 constexpr detail::SchemeRules k_butterfly_rules{
     SchemeKind::butterfly, "butterfly", nullptr, butterfly_edge_point, nullptr, butterfly_regular_edge_point, nullptr, nullptr,
     /*edge_rule_reads_normals=*/false, /*edge_rule_reads_opposites=*/true,
-    /*edge_rule_reads_rings=*/true, /*convex_rules=*/false, /*takes_given_normals=*/false};
+    /*edge_rule_reads_rings=*/true, /*convex_rules=*/false, /*takes_given_normals=*/false,
+    /*sagitta_per_normal_offset=*/1.0};
 
 }  // namespace
 

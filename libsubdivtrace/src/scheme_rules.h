@@ -63,6 +63,14 @@ struct SchemeRules {
     bool convex_rules;
     /// The mesh's own normals are this scheme's at level 0 (the normal scheme).
     bool takes_given_normals;
+    /// How far the limit surface lies off an edge's chord, per unit of the
+    /// next level's edge point's offset from the edge's midpoint along the
+    /// surface normal (the error rule's deviation, Patch): 1 where edge
+    /// points lie on the surface (interpolating schemes), 2 for Loop, whose
+    /// regular edge point is off by (c + d - a - b) / 8, half a quadratic's
+    /// sagitta (on blob5k the limit points' offsets are 1.96x the control
+    /// points', median over the level-2 edges).
+    double sagitta_per_normal_offset;
 
     bool moves_old_vertices() const { return vertex_rule != nullptr; }
     bool draws_limit_points() const { return drawn_point != nullptr; }

@@ -45,10 +45,13 @@ struct NodeRecord {
     /// Shade with the corners' linear blend: the user's normals (as mesh2
     /// does), and at max_level (the uniform level-max_level mesh as it is).
     bool linear_shading = false;
-    /// Per corner: the largest distance of a level-(L+1) edge point from its
-    /// edge's midpoint over every edge at the corner (0 at max_level). The
-    /// same bits in every record that holds the corner, so both sides of an
-    /// edge decide alike from it (the error rule, docs/tracer.md).
+    /// Per corner: the largest offset of a level-(L+1) edge point from its
+    /// edge's midpoint along the surface normal, over every edge at the
+    /// corner, as the limit surface's sagitta (Loop's control points are off
+    /// by half of it); the whole offset at boundaries and creases; 0 at
+    /// max_level. The same bits in every record that holds the corner, so
+    /// both sides of an edge decide alike from it (the error rule,
+    /// docs/tracer.md).
     std::array<float, 3> displacement{};
     Shell shell;                        ///< bounds every descendant to max_level
 };
