@@ -773,6 +773,9 @@ std::vector<std::uint32_t> Patch::band_around(const std::vector<std::uint32_t>& 
     // As band(): the region's vertices, then every vertex of a triangle at
     // one of them; the band is every triangle at any of those. Marks are
     // reset after use, so only the band's own size is paid for.
+    if (!has_incidence())
+        throw std::logic_error("subdivtrace tile: a band cut from a patch without incident lists "
+                               "(Tile::below_deepest and finish() build them)");
     thread_local std::vector<std::uint8_t> vertex_mark, triangle_mark;
     thread_local std::vector<std::uint32_t> near;
     if (vertex_mark.size() < verts.size()) vertex_mark.resize(verts.size(), 0);
