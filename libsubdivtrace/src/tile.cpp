@@ -268,11 +268,14 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
 }
 
 bool Tile::needs_frontier(int j) const {
-    // Child tiles start from the deepest level. A base triangle's tile also
-    // keeps each level for the next: alone, it would start again from a
-    // level-0 patch of about 49 faces (in the blob5k close-up, deriving it
-    // cost 12% more instructions, nearly all in base tiles).
-    return j == depth_ ? root_.level + depth_ < ctx_->max_level : root_.level == 0;
+    // A base triangle's tile keeps each level for the next: alone, it would
+    // start again from a level-0 patch of about 49 faces (in the blob5k
+    // close-up, deriving it cost 12% more instructions, nearly all in base
+    // tiles). Not its deepest: kept there for the child tiles, frontiers were
+    // a third of the close-up's cache (9 kB a tile, more than its records),
+    // and a thread derives the level below a parent once for all its
+    // children (hierarchy.cpp, BelowParents).
+    return root_.level == 0 && j < depth_;
 }
 
 bool Tile::in_tile(const NodeId& id) const {
@@ -420,22 +423,27 @@ void Tile::ensure_level(int j) const {
     if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
 }
 
-Patch Tile::below_deepest() const {
+Patch Tile::deepest_band() const {
     ensure_level(depth_);
-    if (!frontier_) throw std::logic_error("subdivtrace tile: below_deepest asked of a tile at max_level");
+    if (root_.level + depth_ >= ctx_->max_level)
+        throw std::logic_error("subdivtrace tile: a level below a tile at max_level asked for");
+    return band_at(depth_);
+}
+
+Patch Tile::below_deepest() const {
+    Patch q = deepest_band();
     const BuildTimer timer(ctx_->build_ns);
-    Patch q = *frontier_;
     Patch below = split_band(q);
     below.build_incidence();  // each child tile cuts its band through them
     return below;
 }
 
 Patch Tile::band_of_child(const NodeId& child_root) const {
-    ensure_level(depth_);
-    if (child_root.level != root_.level + depth_ || !in_tile(child_root) || !frontier_)
+    if (child_root.level != root_.level + depth_ || !in_tile(child_root))
         throw std::logic_error("subdivtrace tile: band_of_child asked for a node that is not a child tile's root");
+    const Patch q = deepest_band();
     const BuildTimer timer(ctx_->build_ns);
-    return Patch::copy_of(*frontier_, frontier_->band([&](const NodeId& id) { return id == child_root; }));
+    return Patch::copy_of(q, q.band([&](const NodeId& id) { return id == child_root; }));
 }
 
 namespace {
