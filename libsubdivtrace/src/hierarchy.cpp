@@ -131,17 +131,23 @@ struct BelowParents {
     std::size_t next = 0;  ///< the slot replaced next (round robin)
     std::uint64_t groups = 0;  ///< tile groups started so far
 
-    /// The level below tile `root`'s deepest, if this thread has it.
-    detail::LevelBelow* find(std::uint64_t owner, const NodeId& root) const {
-        for (const Slot& s : slots)
-            if (s.tally && s.owner == owner && s.root == root) return s.level.get();
+    /// The slot holding the level below tile `root`'s deepest, if this thread has it.
+    Slot* slot_of(std::uint64_t owner, const NodeId& root) {
+        for (Slot& s : slots)
+            if (s.tally && s.owner == owner && s.root == root) return &s;
         return nullptr;
     }
+    /// The level below tile `root`'s deepest, if this thread has it.
+    const detail::LevelBelow* find(std::uint64_t owner, const NodeId& root) {
+        const Slot* s = slot_of(owner, root);
+        return s ? s->level.get() : nullptr;
+    }
 
-    /// The level below tile `root`'s deepest, computed if this thread has it not.
-    detail::LevelBelow& of(std::uint64_t owner, const NodeId& root, const detail::Tile& parent,
-                           const std::shared_ptr<FrontTally>& tally) {
-        if (detail::LevelBelow* found = find(owner, root)) return *found;
+    /// The slot holding the level below tile `root`'s deepest, computed if
+    /// this thread has it not.
+    Slot& of(std::uint64_t owner, const NodeId& root, const detail::Tile& parent,
+             const std::shared_ptr<FrontTally>& tally) {
+        if (Slot* found = slot_of(owner, root)) return *found;
         Slot& s = slots[next];
         next = (next + 1) % k_slots;
         release(s);
@@ -151,7 +157,7 @@ struct BelowParents {
         s.bytes = s.level->owned_bytes();
         s.tally = tally;
         tally->below_bytes.fetch_add(s.bytes, std::memory_order_relaxed);
-        return *s.level;
+        return s;
     }
 
     /// Whether tile groups start from `level` itself (finishing it, if it
@@ -159,24 +165,21 @@ struct BelowParents {
     /// tiles are often its only ones (a silhouette, another object's
     /// shadow ray), and finishing the whole level for one or two of them
     /// cost more than it saved (POV-Ray's twenty bunnies: 1.07x the CPU).
-    bool worth_finishing(const detail::LevelBelow& level) const {
-        if (level.finished()) return true;
-        for (const Slot& s : slots)
-            if (s.level.get() == &level) return s.groups_started >= k_groups_before_finishing;
-        return false;
+    static bool worth_finishing(const Slot& s) {
+        return s.level->finished() || s.groups_started >= k_groups_before_finishing;
     }
 
-    /// Before a tile group starts from `level` itself: if it is not
-    /// finished and k_finished others are, the one least recently started
-    /// from is unfinished.
-    void make_room(const detail::LevelBelow& level) {
-        if (level.finished()) return;
+    /// Before a tile group starts from slot `s`'s level itself: if it is
+    /// not finished and k_finished others are, the one least recently
+    /// started from is unfinished.
+    void make_room(const Slot& s) {
+        if (s.level->finished()) return;
         std::size_t finished = 0;
         Slot* oldest = nullptr;
-        for (Slot& s : slots) {
-            if (!s.level || !s.level->finished()) continue;
+        for (Slot& other : slots) {
+            if (!other.level || !other.level->finished()) continue;
             ++finished;
-            if (!oldest || s.last_built < oldest->last_built) oldest = &s;
+            if (!oldest || other.last_built < oldest->last_built) oldest = &other;
         }
         if (finished < k_finished || !oldest) return;
         oldest->level->unfinish();
@@ -184,15 +187,13 @@ struct BelowParents {
         recharge(*oldest);
     }
 
-    /// After a tile group started from `level`: it is the most recent, and
-    /// charged what it holds now (it grows as child tiles are built from it).
-    void started(const detail::LevelBelow& level) {
-        for (Slot& s : slots)
-            if (s.level.get() == &level) {
-                s.last_built = ++groups;
-                ++s.groups_started;
-                recharge(s);
-            }
+    /// After a tile group started from slot `s`'s level: it is the most
+    /// recent, and charged what it holds now (it grows as child tiles are
+    /// built from it).
+    void started(Slot& s) {
+        s.last_built = ++groups;
+        ++s.groups_started;
+        recharge(s);
     }
 
     static void recharge(Slot& s) {
@@ -316,15 +317,15 @@ public:
                 const NodeId parent_root = detail::parent_tile_root(root);
                 const std::shared_ptr<const CachedTile> parent = tile(parent_root);
                 BelowParents& below = BelowParents::mine();
-                detail::LevelBelow& level = below.of(id, parent_root, parent->tile, front_tally);
-                if (below.worth_finishing(level)) {
-                    below.make_room(level);
-                    start = std::make_unique<detail::TileGroup>(context, level, roots);
+                BelowParents::Slot& slot = below.of(id, parent_root, parent->tile, front_tally);
+                if (BelowParents::worth_finishing(slot)) {
+                    below.make_room(slot);
+                    start = std::make_unique<detail::TileGroup>(context, *slot.level, roots);
                 } else {
-                    own_band = std::make_unique<detail::LevelBelow>(detail::band_of_roots(level.patch(), roots));
+                    own_band = std::make_unique<detail::LevelBelow>(detail::band_of_roots(slot.level->patch(), roots));
                     start = std::make_unique<detail::TileGroup>(context, *own_band, roots);
                 }
-                below.started(level);
+                below.started(slot);
             }
             std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
             for (const NodeId& r : roots) {

@@ -268,14 +268,12 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
 }
 
 bool Tile::needs_frontier(int j) const {
-    // A base triangle's tile keeps each level for the next: alone, it would
-    // start again from a level-0 patch of about 49 faces (in the blob5k
-    // close-up, deriving it cost 12% more instructions, nearly all in base
-    // tiles). Not its deepest: kept there for the child tiles, frontiers were
-    // a third of the close-up's cache (9 kB a tile, more than its records),
-    // and a thread derives the level below a parent once for all its
-    // children (hierarchy.cpp, BelowParents).
-    return root_.level == 0 && j < depth_;
+    // Child tiles start from the deepest level (until a thread takes it to
+    // derive the level below, take_deepest_band). A base triangle's tile also
+    // keeps each level for the next: alone, it would start again from a
+    // level-0 patch of about 49 faces (in the blob5k close-up, deriving it
+    // cost 12% more instructions, nearly all in base tiles).
+    return j == depth_ ? root_.level + depth_ < ctx_->max_level : root_.level == 0;
 }
 
 bool Tile::in_tile(const NodeId& id) const {
@@ -409,10 +407,8 @@ void Tile::ensure_level(int j) const {
         for (int k = built + 1; k <= j; ++k) {
             self->build_level(k, q);
             if (k == j && needs_frontier(k)) {
-                // Waits, without rings and edges, for what starts from it.
-                // Stored before the level is published: readers that find
-                // the deepest level built take no lock (below_deepest,
-                // band_of_child).
+                // Waits, without rings and edges, for what starts from it
+                // (read and taken under the lock: take_deepest_band).
                 q.drop_derived();
                 self->frontier_ = std::make_unique<Patch>(std::move(q));
             }
@@ -423,15 +419,25 @@ void Tile::ensure_level(int j) const {
     if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
 }
 
-Patch Tile::deepest_band() const {
+Patch Tile::take_deepest_band() const {
     ensure_level(depth_);
     if (root_.level + depth_ >= ctx_->max_level)
         throw std::logic_error("subdivtrace tile: a level below a tile at max_level asked for");
-    return band_at(depth_);
+    std::unique_ptr<Patch> kept;
+    std::size_t before = 0, after = 0;
+    {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        before = bytes_held();
+        kept = std::move(const_cast<Tile*>(this)->frontier_);
+        after = bytes_held();
+    }
+    if (!kept) return band_at(depth_);
+    if (ctx_->resized) ctx_->resized(*this, root_, before, after);
+    return std::move(*kept);
 }
 
 Patch Tile::below_deepest() const {
-    Patch q = deepest_band();
+    Patch q = take_deepest_band();
     const BuildTimer timer(ctx_->build_ns);
     Patch below = split_band(q);
     below.build_incidence();  // each child tile cuts its band through them
@@ -441,9 +447,18 @@ Patch Tile::below_deepest() const {
 Patch Tile::band_of_child(const NodeId& child_root) const {
     if (child_root.level != root_.level + depth_ || !in_tile(child_root))
         throw std::logic_error("subdivtrace tile: band_of_child asked for a node that is not a child tile's root");
-    const Patch q = deepest_band();
-    const BuildTimer timer(ctx_->build_ns);
-    return Patch::copy_of(q, q.band([&](const NodeId& id) { return id == child_root; }));
+    ensure_level(depth_);
+    if (root_.level + depth_ >= ctx_->max_level)
+        throw std::logic_error("subdivtrace tile: a child band below a tile at max_level asked for");
+    const auto band_of = [&](const Patch& q) {
+        const BuildTimer timer(ctx_->build_ns);
+        return Patch::copy_of(q, q.band([&](const NodeId& id) { return id == child_root; }));
+    };
+    {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (frontier_) return band_of(*frontier_);
+    }
+    return band_of(band_at(depth_));
 }
 
 namespace {

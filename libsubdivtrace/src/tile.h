@@ -245,11 +245,11 @@ public:
 
     /// The level below its deepest one (its triangles' children and their
     /// band, not finished but with incident lists), where child tiles start
-    /// (TileGroup). Computed anew on each call from the tile's deepest band,
-    /// itself derived again (deepest_band): the one below is about 3x the
-    /// tile's other bytes (the caller keeps it while it builds children,
-    /// hierarchy.cpp). Builds every level first; only for a tile whose
-    /// deepest level is above max_level.
+    /// (TileGroup). Computed anew on each call, from the frontier the first
+    /// time (take_deepest_band): the one below is about 3x the tile's other
+    /// bytes (the caller keeps it while it builds children, hierarchy.cpp).
+    /// Builds every level first; only for a tile whose deepest level is
+    /// above max_level.
     Patch below_deepest() const;
 
     /// The triangle `child_root` of its deepest level with its border (not
@@ -264,14 +264,17 @@ public:
 
 private:
     bool in_tile(const NodeId& id) const;
-    /// Its deepest level with its border (not finished), derived again
-    /// (band_at) on each call: no tile keeps it (needs_frontier).
-    Patch deepest_band() const;
-    /// Whether the frontier is kept once level j is built: in a base
-    /// triangle's tile, below its deepest level. A child tile's first level
-    /// is most often its only one (nine tiles in ten in the blob5k
-    /// close-up), so the band its next level starts from is derived again
-    /// from its parent when one is built (band_at), not kept.
+    /// Its deepest level with its border (not finished): the frontier,
+    /// which it gives up (below_deepest's caller keeps what it derives from
+    /// it for all the children, hierarchy.cpp's BelowParents, and kept,
+    /// frontiers were a third of the blob5k close-up's cache, 9 kB a tile,
+    /// more than its records), or derived again (band_at) once it is given up.
+    Patch take_deepest_band() const;
+    /// Whether the frontier is kept once level j is built: at the deepest
+    /// level, for child tiles, and in a base triangle's tile. A child tile's
+    /// first level is most often its only one (nine tiles in ten in the
+    /// blob5k close-up), so the band its next level starts from is derived
+    /// again from its parent when one is built (band_at), not kept.
     bool needs_frontier(int j) const;
     /// Level j of the tile's triangles with their border, not finished
     /// (j <= the deepest level built, below the tile's deepest): from
@@ -307,7 +310,7 @@ private:
     std::array<TileLevel, k_tile_depth> levels_;
     Vec3 origin_{0.0};  ///< shells are stored relative to it
     /// The last level built with its border (without rings and edges), for
-    /// the level that starts from it (needs_frontier: base triangles' tiles; a
+    /// the levels and child tiles that start from it (needs_frontier; a
     /// pointer: most tiles never hold one, and a Patch is ~350 bytes).
     std::unique_ptr<Patch> frontier_;
     mutable std::mutex mutex_;
