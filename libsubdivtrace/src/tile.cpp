@@ -419,10 +419,14 @@ void Tile::ensure_level(int j) const {
     if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
 }
 
-Patch Tile::take_deepest_band() const {
+void Tile::ensure_deepest_for_children() const {
     ensure_level(depth_);
     if (root_.level + depth_ >= ctx_->max_level)
         throw std::logic_error("subdivtrace tile: a level below a tile at max_level asked for");
+}
+
+Patch Tile::take_deepest_band() const {
+    ensure_deepest_for_children();
     std::unique_ptr<Patch> kept;
     std::size_t before = 0, after = 0;
     {
@@ -447,9 +451,7 @@ Patch Tile::below_deepest() const {
 Patch Tile::band_of_child(const NodeId& child_root) const {
     if (child_root.level != root_.level + depth_ || !in_tile(child_root))
         throw std::logic_error("subdivtrace tile: band_of_child asked for a node that is not a child tile's root");
-    ensure_level(depth_);
-    if (root_.level + depth_ >= ctx_->max_level)
-        throw std::logic_error("subdivtrace tile: a child band below a tile at max_level asked for");
+    ensure_deepest_for_children();
     const auto band_of = [&](const Patch& q) {
         const BuildTimer timer(ctx_->build_ns);
         return Patch::copy_of(q, q.band([&](const NodeId& id) { return id == child_root; }));

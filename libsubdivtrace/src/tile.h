@@ -270,6 +270,9 @@ private:
     /// frontiers were a third of the blob5k close-up's cache, 9 kB a tile,
     /// more than its records), or derived again (band_at) once it is given up.
     Patch take_deepest_band() const;
+    /// Builds every level; throws std::logic_error for a tile whose deepest
+    /// level is max_level (it has no child tiles).
+    void ensure_deepest_for_children() const;
     /// Whether the frontier is kept once level j is built: at the deepest
     /// level, for child tiles, and in a base triangle's tile. A child tile's
     /// first level is most often its only one (nine tiles in ten in the
