@@ -26,4 +26,18 @@ inline float next_float_up(float f) {
 /// The next float below f; -infinity and NaN stay.
 inline float next_float_down(float f) { return -next_float_up(-f); }
 
+/// The float nearest x that is not below x.
+inline float round_up(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) < x) f = next_float_up(f);
+    return f;
+}
+
+/// The float nearest x that is not above x.
+inline float round_down(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) > x) f = next_float_down(f);
+    return f;
+}
+
 }  // namespace subdivtrace::detail

@@ -29,18 +29,6 @@ constexpr int k_stencil_rounding_steps = 64 * 17;
 
 }  // namespace
 
-float round_down(double x) {
-    float f = static_cast<float>(x);
-    if (static_cast<double>(f) > x) f = next_float_down(f);
-    return f;
-}
-
-float round_up(double x) {
-    float f = static_cast<float>(x);
-    if (static_cast<double>(f) < x) f = next_float_up(f);
-    return f;
-}
-
 CompactShell CompactShell::from(const Shell& s, const Vec3& origin) {
     // Relative to a nearby origin, so float keeps the detail of a mesh far
     // from (0,0,0). One float step further out covers the double rounding of
@@ -51,7 +39,7 @@ CompactShell CompactShell::from(const Shell& s, const Vec3& origin) {
     for (int a = 0; a < 3; ++a) {
         c.lo[a] = down(s.lo[a] - origin[a]);
         c.hi[a] = up(s.hi[a] - origin[a]);
-        c.axis[a] = static_cast<float>(s.axis[a]);
+        c.axis[a] = axis_bits(s.axis[a]);
     }
     const double offset = glm::dot(s.axis, origin);
     c.slab_min = down(s.slab_min - offset);
@@ -68,8 +56,8 @@ Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const
         glm::cross(rec.position[1] - rec.position[0], rec.position[2] - rec.position[0]));
     if (axis == Vec3(0.0))
         axis = finish_normal(p.corner_normal[3 * t] + p.corner_normal[3 * t + 1] + p.corner_normal[3 * t + 2]);
-    // Rounded to float first: the compact shell stores this very axis.
-    shell.axis = shell_kind == ShellKind::aabb_slab ? Vec3(glm::vec3(axis)) : Vec3(0.0);
+    // Rounded first: the stored shell keeps this very axis.
+    shell.axis = shell_kind == ShellKind::aabb_slab ? storable_axis(axis) : Vec3(0.0);
     if (shell.axis != Vec3(0.0)) shell.slab_min = shell.slab_max = glm::dot(shell.axis, rec.position[0]);
     for (int c = 0; c < 3; ++c) {
         shell.grow_both(rec.position[c]);

@@ -10,6 +10,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "level_shell.h"
 #include "patch.h"
 #include "subdivtrace/hierarchy.h"
 #include "subdivtrace/shell.h"
@@ -17,23 +18,24 @@
 namespace subdivtrace::detail {
 
 /// A shell stored in single precision relative to an origin near it, rounded
-/// outwards: what a ray reads of a node's bounds at 44 bytes instead of 88.
+/// outwards: what a ray reads of a base triangle's bounds at 40 bytes instead
+/// of 88 (a tile's levels keep theirs in LevelShell, 22 bytes).
 struct CompactShell {
     float lo[3];
     float hi[3];
-    float axis[3];
+    std::int16_t axis[3];  ///< axis_bits
     float slab_min;
     float slab_max;
 
-    /// `shell.axis` must already be a float-representable vector (make_record
-    /// rounds it first), so the slab keeps its meaning.
+    /// `shell.axis` must be storable_axis's (descendant_shell rounds it so),
+    /// so the slab keeps its meaning.
     static CompactShell from(const Shell& shell, const Vec3& origin);
     /// Inline: every child record a tile hands out expands one.
     Shell expand(const Vec3& origin) const {
         Shell s;
         s.lo = origin + Vec3(lo[0], lo[1], lo[2]);
         s.hi = origin + Vec3(hi[0], hi[1], hi[2]);
-        s.axis = Vec3(axis[0], axis[1], axis[2]);
+        s.axis = Vec3(axis_of_bits(axis[0]), axis_of_bits(axis[1]), axis_of_bits(axis[2]));
         const double offset = glm::dot(s.axis, origin);
         s.slab_min = offset + slab_min;
         s.slab_max = offset + slab_max;
@@ -44,10 +46,6 @@ struct CompactShell {
         return s;
     }
 };
-
-/// The float nearest x that is not below x (round_up), not above it (round_down).
-float round_up(double x);
-float round_down(double x);
 
 /// The shell of patch triangle t whose record `rec` has its positions, drawn
 /// positions and normals filled in: its corners and drawn points, grown by

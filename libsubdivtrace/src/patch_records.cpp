@@ -3,6 +3,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "float_step.h"
 #include "node_shell.h"
 
 namespace subdivtrace::detail {

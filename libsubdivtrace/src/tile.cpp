@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <new>
 #include <type_traits>
 #include <stdexcept>
 
@@ -356,8 +357,10 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
     }
     // Shells relative to a point of the tile: its first grid point at level 1.
     if (j == 1) origin_ = points[0].position;
-    CompactShell* compact = out.shells();
-    for (std::size_t k = 0; k < shells.size(); ++k) compact[k] = CompactShell::from(shells[k], origin_);
+    ShellGrid& grid = out.shell_grid();
+    grid = ShellGrid::spanning(shells.data(), shells.size(), origin_);
+    LevelShell* stored = out.shells();
+    for (std::size_t k = 0; k < shells.size(); ++k) stored[k] = LevelShell::from(shells[k], grid, origin_);
     ctx_->records_built->fetch_add(shells.size(), std::memory_order_relaxed);
 }
 
@@ -383,7 +386,7 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
         const auto [direction, slot] = edge_slot(id, grid[c], grid[(c + 1) % 3]);
         rec.edge_normal[c] = glm::vec3(level.points()[slot].edge_normal[direction].vector());
     }
-    rec.shell = level.shells()[index_in_level(id)].expand(origin_);
+    rec.shell = level.shell(index_in_level(id), origin_);
     return rec;
 }
 
@@ -477,15 +480,17 @@ std::size_t heap_bytes(std::size_t bytes) {
 
 void TileLevel::allocate(int j, bool with_draw) {
     static_assert(std::is_trivially_destructible_v<TilePoint> && std::is_trivially_destructible_v<Vec3> &&
-                  std::is_trivially_destructible_v<CompactShell>,
+                  std::is_trivially_destructible_v<ShellGrid> && std::is_trivially_destructible_v<LevelShell>,
                   "a level's block is freed without destructors");
-    static_assert(sizeof(TilePoint) % alignof(Vec3) == 0 && sizeof(Vec3) % alignof(CompactShell) == 0,
+    static_assert(sizeof(TilePoint) % alignof(Vec3) == 0 && sizeof(Vec3) % alignof(ShellGrid) == 0 &&
+                      sizeof(ShellGrid) % alignof(LevelShell) == 0,
                   "each array of the block starts aligned");
     j_ = static_cast<std::uint8_t>(j);
     with_draw_ = with_draw;
     block_.reset(new std::byte[block_bytes()]);
     std::uninitialized_value_construct_n(points(), point_count());
     if (with_draw_) std::uninitialized_value_construct_n(draw(), point_count());
+    ::new (static_cast<void*>(&shell_grid())) ShellGrid();
     std::uninitialized_value_construct_n(shells(), shell_count());
 }
 

@@ -197,20 +197,28 @@ public:
     const Vec3* draw() const {
         return with_draw_ ? reinterpret_cast<const Vec3*>(block_.get() + draw_offset()) : nullptr;
     }
-    CompactShell* shells() { return reinterpret_cast<CompactShell*>(block_.get() + shell_offset()); }
-    const CompactShell* shells() const {
-        return reinterpret_cast<const CompactShell*>(block_.get() + shell_offset());
+    /// The grid the level's shells are stored on, then the shells.
+    ShellGrid& shell_grid() { return *reinterpret_cast<ShellGrid*>(block_.get() + grid_offset()); }
+    const ShellGrid& shell_grid() const {
+        return *reinterpret_cast<const ShellGrid*>(block_.get() + grid_offset());
     }
+    LevelShell* shells() { return reinterpret_cast<LevelShell*>(block_.get() + shell_offset()); }
+    const LevelShell* shells() const {
+        return reinterpret_cast<const LevelShell*>(block_.get() + shell_offset());
+    }
+    /// Shell k of the level, relative to the tile's origin.
+    Shell shell(std::size_t k, const Vec3& origin) const { return shells()[k].expand(shell_grid(), origin); }
     /// The block's bytes as the heap allocates them (0 before allocate()).
     std::size_t bytes_held() const;
 
 private:
     std::size_t side() const { return std::size_t{1} << j_; }
     std::size_t draw_offset() const { return point_count() * sizeof(TilePoint); }
-    std::size_t shell_offset() const {
+    std::size_t grid_offset() const {
         return draw_offset() + (with_draw_ ? point_count() * sizeof(Vec3) : 0);
     }
-    std::size_t block_bytes() const { return shell_offset() + shell_count() * sizeof(CompactShell); }
+    std::size_t shell_offset() const { return grid_offset() + sizeof(ShellGrid); }
+    std::size_t block_bytes() const { return shell_offset() + shell_count() * sizeof(LevelShell); }
 
     std::unique_ptr<std::byte[]> block_;
     std::uint8_t j_ = 0;
@@ -239,8 +247,8 @@ public:
     void child_shells(const NodeId& parent, std::array<Shell, 4>& out) const {
         const int j = parent.level + 1 - root_.level;
         if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
-        const CompactShell* shells = levels_[j - 1].shells();
-        for (int c = 0; c < 4; ++c) out[c] = shells[index_in_level(child_of(parent, c))].expand(origin_);
+        const TileLevel& level = levels_[j - 1];
+        for (int c = 0; c < 4; ++c) out[c] = level.shell(index_in_level(child_of(parent, c)), origin_);
     }
 
     /// The level below its deepest one (its triangles' children and their

@@ -56,9 +56,10 @@ TEST_CASE("the surface's memory outside the cache matches a count by hand", "[me
     // Topology: an offset per vertex plus one, a face index per corner.
     CHECK(m.topology == (V + 1) * 4 + 3 * F * 4);
     // Level-0 records, normal scheme: a normal (double), a shading normal
-    // (float) and a displacement (float) per vertex; a 44-byte shell and three
-    // midpoint normals (float) per triangle.
-    CHECK(m.roots == V * (24 + 12 + 4) + F * (44 + 36));
+    // (float) and a displacement (float) per vertex; a 40-byte shell (box and
+    // slab in float, a 16-bit axis, padded) and three midpoint normals
+    // (float) per triangle.
+    CHECK(m.roots == V * (24 + 12 + 4) + F * (40 + 36));
     // BVH: 32-byte nodes (at least the root, at most 2F - 1) and an item index per triangle.
     CHECK(m.bvh >= 32 + F * 4);
     CHECK(m.bvh <= (2 * F - 1) * 32 + F * 4);

@@ -1,0 +1,101 @@
+#pragma once
+// A tile level's shells in 22 bytes each (CompactShell: 40): every box
+// corner a 16-bit step of a grid that spans the level's shells, and the slab
+// a 16-bit fraction of the box's own extent along its axis. A level's shells
+// were over half of its bytes at 44 each (docs/tracer.md, "What the surface
+// holds"); one step of the grid is 1/65535 of the level's extent, so a shell
+// of level 3 of a tile (1/8 of it) grows by about 0.01% per side.
+//
+// Rounded outwards as CompactShell is: each stored value is checked against
+// the very expression expand() evaluates, and expand() pads by that
+// expression's rounding besides.
+
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/geometric.hpp>
+
+#include "subdivtrace/shell.h"
+
+namespace subdivtrace::detail {
+
+/// The axis a stored shell keeps: each coordinate the nearest multiple of
+/// 2^-15, so 16 bits (and a float) hold it exactly and the slab computed
+/// along it keeps its meaning once stored. Within 2e-5 of the unit input.
+Vec3 storable_axis(const Vec3& axis);
+/// Coordinate a of an axis of storable_axis in 16 bits, and back.
+std::int16_t axis_bits(double coordinate);
+inline double axis_of_bits(std::int16_t bits) { return bits * (1.0 / 32768.0); }
+
+/// The grid a level's shells are quantised on: its lowest corner relative
+/// to the tile's origin and its step, per axis, and how far expand() pads.
+struct ShellGrid {
+    float lo[3] = {0.0f, 0.0f, 0.0f};
+    float step[3] = {0.0f, 0.0f, 0.0f};
+    /// A bound on the rounding of expand()'s sums for this level (from the
+    /// magnitude of its coordinates): from() checks each value against
+    /// those very sums, and the pad covers a compiler that evaluates them
+    /// differently in another place (contracting them into fused
+    /// multiply-adds, say).
+    float pad = 0.0f;
+
+    static constexpr std::uint16_t k_last = 65535;
+    /// A grid whose k_last steps span the non-empty shells of `shells`.
+    static ShellGrid spanning(const Shell* shells, std::size_t count, const Vec3& origin);
+    /// Coordinate `a` of grid point q (what LevelShell::expand reads).
+    double coordinate(int a, std::uint16_t q, const Vec3& origin) const {
+        // q * step is exact in double (16 by 24 bits).
+        return origin[a] + (static_cast<double>(lo[a]) + q * static_cast<double>(step[a]));
+    }
+};
+
+/// Where a box's slab fractions lie along its axis: fraction 0 at `base`
+/// (the least of the axis over the box), each of the k_last steps `step`
+/// further.
+struct SlabSpan {
+    double base;
+    double step;
+    static SlabSpan of(const Shell& box) {
+        double base = 0.0, top = 0.0;
+        for (int a = 0; a < 3; ++a) {
+            const bool rising = box.axis[a] >= 0.0;
+            base += box.axis[a] * (rising ? box.lo[a] : box.hi[a]);
+            top += box.axis[a] * (rising ? box.hi[a] : box.lo[a]);
+        }
+        return {base, (top - base) * (1.0 / ShellGrid::k_last)};
+    }
+    double value(std::uint16_t q) const { return base + q * step; }
+};
+
+struct LevelShell {
+    std::uint16_t lo[3];
+    std::uint16_t hi[3];
+    std::int16_t axis[3];  ///< Shell::axis in steps of 2^-15 (storable_axis)
+    /// The slab as fractions (of k_last) of the box's extent along the axis.
+    std::uint16_t slab[2];
+
+    /// `shell.axis` must be storable_axis's (descendant_shell rounds it so).
+    /// An empty shell stays empty.
+    static LevelShell from(const Shell& shell, const ShellGrid& grid, const Vec3& origin);
+    /// Inline: a ray expands the shells of the four children of every node it enters.
+    Shell expand(const ShellGrid& grid, const Vec3& origin) const {
+        if (lo[0] > hi[0]) return Shell{};  // stored empty
+        Shell s;
+        for (int a = 0; a < 3; ++a) {
+            s.lo[a] = grid.coordinate(a, lo[a], origin);
+            s.hi[a] = grid.coordinate(a, hi[a], origin);
+            s.axis[a] = axis_of_bits(axis[a]);
+        }
+        if (s.axis != Vec3(0.0)) {
+            const SlabSpan span = SlabSpan::of(s);
+            s.slab_min = span.value(slab[0]);
+            s.slab_max = span.value(slab[1]);
+        }
+        s.pad(grid.pad);
+        return s;
+    }
+};
+static_assert(sizeof(LevelShell) == 22, "eleven 16-bit values, no padding");
+
+
+}  // namespace subdivtrace::detail

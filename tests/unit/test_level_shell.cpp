@@ -1,0 +1,130 @@
+// LevelShell (a tile level's shells in 16-bit steps of a grid over the
+// level) against the points it must hold: every point a shell was grown by
+// lies in its stored box and slab, the stored shell is at most a few grid
+// steps wider than the exact one, and empty stays empty. Levels near the
+// origin, at 1e6 from it, tiny and flat.
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+
+#include "level_shell.h"
+
+using subdivtrace::Shell;
+using subdivtrace::Vec3;
+using subdivtrace::detail::LevelShell;
+using subdivtrace::detail::ShellGrid;
+using subdivtrace::detail::storable_axis;
+
+namespace {
+
+struct Level {
+    Vec3 origin;
+    std::vector<std::vector<Vec3>> points;  ///< what each shell was grown by
+    std::vector<Shell> shells;
+};
+
+/// `count` shells of random point clouds around `centre` with spread `size`
+/// (flat along z where `flat`), each with a slab along a random axis.
+Level random_level(std::mt19937_64& rng, const Vec3& centre, double size, int count, bool flat) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::normal_distribution<double> gauss;
+    Level level;
+    level.origin = centre + Vec3(u(rng), u(rng), u(rng)) * (0.1 * size);
+    for (int k = 0; k < count; ++k) {
+        const Vec3 at = centre + Vec3(u(rng), u(rng), flat ? 0.0 : u(rng)) * size;
+        const double spread = size * std::pow(10.0, -3.0 * (u(rng) + 1.0) / 2.0);  // size .. size/1000
+        Shell s;
+        s.axis = storable_axis(glm::normalize(Vec3(gauss(rng), gauss(rng), gauss(rng))));
+        std::vector<Vec3> cloud;
+        for (int i = 0; i < 8; ++i) {
+            const Vec3 p = at + Vec3(u(rng), u(rng), flat ? 0.0 : u(rng)) * spread;
+            if (cloud.empty()) s.slab_min = s.slab_max = glm::dot(s.axis, p);
+            s.grow_both(p);
+            cloud.push_back(p);
+        }
+        level.points.push_back(cloud);
+        level.shells.push_back(s);
+    }
+    return level;
+}
+
+}  // namespace
+
+TEST_CASE("level shells hold every point their exact shells hold, a few grid steps wider at most",
+          "[shells][level_shell]") {
+    std::mt19937_64 rng(20261206);
+    struct Case {
+        const char* name;
+        Vec3 centre;
+        double size;
+        bool flat;
+    };
+    const Case cases[] = {
+        {"unit, at the origin", Vec3(0.0), 1.0, false},
+        {"unit, at 1e6", Vec3(1e6, -1e6, 1e6), 1.0, false},
+        {"tiny (1e-3), at 1e6", Vec3(1e6, 2e6, -3e6), 1e-3, false},
+        {"flat along z", Vec3(0.5, 0.25, 2.0), 1.0, true},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        for (int round = 0; round < 200; ++round) {
+            const Level level = random_level(rng, c.centre, c.size, 16, c.flat);
+            const ShellGrid grid = ShellGrid::spanning(level.shells.data(), level.shells.size(), level.origin);
+            for (std::size_t k = 0; k < level.shells.size(); ++k) {
+                const Shell& exact = level.shells[k];
+                const Shell stored = LevelShell::from(exact, grid, level.origin).expand(grid, level.origin);
+                REQUIRE(stored.axis == exact.axis);
+                for (const Vec3& p : level.points[k]) {
+                    REQUIRE(stored.contains(p));
+                    const double d = glm::dot(stored.axis, p);
+                    REQUIRE(d >= stored.slab_min);
+                    REQUIRE(d <= stored.slab_max);
+                }
+                for (int a = 0; a < 3; ++a) {
+                    REQUIRE(stored.lo[a] <= exact.lo[a]);
+                    REQUIRE(stored.hi[a] >= exact.hi[a]);
+                    // One step of rounding each way, and the pad (far below a step).
+                    const double step = grid.step[a];
+                    CHECK(exact.lo[a] - stored.lo[a] <= 1.01 * step + 1e-9 * std::abs(exact.lo[a]));
+                    CHECK(stored.hi[a] - exact.hi[a] <= 1.01 * step + 1e-9 * std::abs(exact.hi[a]));
+                }
+                REQUIRE(stored.slab_min <= exact.slab_min);
+                REQUIRE(stored.slab_max >= exact.slab_max);
+                // A slab step is the stored box's extent along the axis / 65535.
+                const Vec3 extent = stored.hi - stored.lo;
+                const double slab_step = glm::dot(glm::abs(stored.axis), extent) / 65535.0;
+                const double magnitude = std::abs(glm::dot(stored.axis, stored.lo)) + glm::dot(glm::abs(stored.axis), extent);
+                CHECK(stored.thickness() - exact.thickness() <= 2.01 * slab_step + 1e-9 * magnitude);
+            }
+        }
+    }
+}
+
+TEST_CASE("an empty level shell stays empty, and axes are stored exactly", "[shells][level_shell]") {
+    Shell one;
+    one.grow(Vec3(1.0, 2.0, 3.0));
+    one.grow(Vec3(1.5, 2.5, 3.5));
+    const Shell shells[2] = {Shell{}, one};
+    const Vec3 origin(1.0, 2.0, 3.0);
+    const ShellGrid grid = ShellGrid::spanning(shells, 2, origin);
+    CHECK(LevelShell::from(Shell{}, grid, origin).expand(grid, origin).empty());
+    const Shell kept = LevelShell::from(one, grid, origin).expand(grid, origin);
+    CHECK_FALSE(kept.empty());
+    CHECK(kept.axis == Vec3(0.0));  // a box alone stays a box alone
+    CHECK(kept.contains(Vec3(1.0, 2.0, 3.0)));
+    CHECK(kept.contains(Vec3(1.5, 2.5, 3.5)));
+
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> gauss;
+    for (int i = 0; i < 100000; ++i) {
+        const Vec3 n = glm::normalize(Vec3(gauss(rng), gauss(rng), gauss(rng)));
+        const Vec3 a = storable_axis(n);
+        REQUIRE(glm::length(a - n) <= 2.0 * std::sqrt(3.0) / 65536.0);
+        // A float holds it exactly (CompactShell stores the slab along it).
+        for (int k = 0; k < 3; ++k) REQUIRE(static_cast<double>(static_cast<float>(a[k])) == a[k]);
+        REQUIRE(storable_axis(a) == a);
+    }
+}
