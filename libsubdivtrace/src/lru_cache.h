@@ -3,10 +3,10 @@
 // its own mutex and least-recently-used list (the shape of Embree's
 // tessellation cache). lookup_or_build(key, build) builds each value once:
 // a thread asking for a key another thread is building waits for that build
-// (a per-entry pending state) instead of building it again. Values are copied
-// out, so a reader never holds a pointer an eviction could free. Each entry is
-// charged to an owner (a surface sharing the cache) so owners can report their
-// own share.
+// (a pending state per build, shared by the keys it claimed) instead of
+// building it again. Values are copied out, so a reader never holds a pointer
+// an eviction could free. Each entry is charged to an owner (a surface sharing
+// the cache) so owners can report their own share.
 //
 // The budget is a ceiling: the cache keeps at most a working limit, which
 // starts small and grows while entries it dropped are asked for again (a
@@ -21,8 +21,9 @@
 #include <cstdint>
 #include <deque>
 #include <exception>
-#include <future>
+#include <condition_variable>
 #include <list>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <unordered_map>
@@ -119,8 +120,9 @@ public:
     template <class Group, class Build>
     Value lookup_or_build_group(const Key& key, CacheOwnerTally& owner, Group&& group, Build&& build) {
         Shard& s = shard_for(key);
-        std::shared_future<Value> other_build;
-        std::vector<std::promise<Value>> promises;
+        std::shared_ptr<PendingBuild> other_build;
+        std::size_t other_index = 0;
+        std::shared_ptr<PendingBuild> pending;  // this thread's build, on a miss
         std::size_t needed_bytes = 0, entry_bytes = 0;  // set by a re-miss
         {
             std::lock_guard<std::mutex> lock(s.mutex);
@@ -135,7 +137,8 @@ public:
             if (p != s.pending.end()) {
                 ++s.waits;
                 owner.hits.fetch_add(1, std::memory_order_relaxed);
-                other_build = p->second;
+                other_build = p->second.build;
+                other_index = p->second.index;
             } else {
                 ++s.misses;
                 owner.misses.fetch_add(1, std::memory_order_relaxed);
@@ -150,12 +153,13 @@ public:
                     needed_bytes = (s.bytes + evicted_since * entry) * shards_.size();
                     entry_bytes = entry;
                 }
-                // A promise allocates its shared state: made on a miss only.
-                promises.emplace_back();
-                s.pending.emplace(key, promises[0].get_future().share());
+                // One pending build for the key and the group's keys claimed
+                // below (allocated on a miss only).
+                pending = std::make_shared<PendingBuild>();
+                s.pending.emplace(key, PendingSlot{pending, 0});
             }
         }
-        if (other_build.valid()) return other_build.get();
+        if (other_build) return other_build->wait(other_index);
         const std::uint64_t misses = all_misses_.fetch_add(1, std::memory_order_relaxed) + 1;
         if (needed_bytes != 0) {
             const std::uint64_t remisses = all_remisses_.fetch_add(1, std::memory_order_relaxed) + 1;
@@ -169,8 +173,7 @@ public:
             Shard& g = shard_for(k);
             std::lock_guard<std::mutex> lock(g.mutex);
             if (g.map.count(k) != 0 || g.pending.count(k) != 0) continue;
-            promises.emplace_back();
-            g.pending.emplace(k, promises.back().get_future().share());
+            g.pending.emplace(k, PendingSlot{pending, static_cast<std::uint32_t>(claimed.size())});
             claimed.push_back(k);
         }
         std::vector<std::pair<Value, std::size_t>> built;
@@ -178,18 +181,21 @@ public:
             built = build(claimed);
             if (built.size() != claimed.size()) throw std::logic_error("cache: a group build returned a wrong count");
         } catch (...) {
-            for (std::size_t k = 0; k < claimed.size(); ++k) {
-                Shard& g = shard_for(claimed[k]);
-                {
-                    std::lock_guard<std::mutex> lock(g.mutex);
-                    g.pending.erase(claimed[k]);
-                }
-                promises[k].set_exception(std::current_exception());
+            pending->fail(std::current_exception());
+            for (const Key& k : claimed) {
+                Shard& g = shard_for(k);
+                std::lock_guard<std::mutex> lock(g.mutex);
+                g.pending.erase(k);
             }
             throw;
         }
+        {
+            std::vector<Value> values;
+            values.reserve(built.size());
+            for (const auto& b : built) values.push_back(b.first);
+            pending->finish(std::move(values));
+        }
         for (std::size_t k = 0; k < claimed.size(); ++k) {
-            promises[k].set_value(built[k].first);
             Shard& g = shard_for(claimed[k]);
             std::lock_guard<std::mutex> lock(g.mutex);
             g.pending.erase(claimed[k]);
@@ -256,6 +262,48 @@ public:
     }
 
 private:
+    /// One build in progress, for every key it claimed: the values once it
+    /// is done, and where the threads that asked for one meanwhile wait.
+    /// One per build, not a std::promise per key: a promise's shared state
+    /// and call_once were about 6% of a close-up's time.
+    class PendingBuild {
+    public:
+        /// The value of claimed key `index` once the build is done, or its
+        /// exception rethrown.
+        Value wait(std::size_t index) {
+            std::unique_lock<std::mutex> lock(mutex_);
+            done_cv_.wait(lock, [this] { return done_; });
+            if (error_) std::rethrow_exception(error_);
+            return values_[index];
+        }
+        void finish(std::vector<Value> values) {
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                values_ = std::move(values);
+                done_ = true;
+            }
+            done_cv_.notify_all();
+        }
+        void fail(std::exception_ptr error) {
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                error_ = std::move(error);
+                done_ = true;
+            }
+            done_cv_.notify_all();
+        }
+
+    private:
+        std::mutex mutex_;
+        std::condition_variable done_cv_;
+        bool done_ = false;
+        std::exception_ptr error_;
+        std::vector<Value> values_;  ///< by claimed index
+    };
+    struct PendingSlot {
+        std::shared_ptr<PendingBuild> build;
+        std::uint32_t index;  ///< among the build's claimed keys
+    };
     struct Entry {
         Key key;
         Value value;
@@ -266,8 +314,8 @@ private:
         mutable std::mutex mutex;
         std::list<Entry> order;
         std::unordered_map<Key, typename std::list<Entry>::iterator, Hash> map;
-        /// Keys being built, with the future their builder fulfils.
-        std::unordered_map<Key, std::shared_future<Value>, Hash> pending;
+        /// Keys being built, with the build that fulfils them.
+        std::unordered_map<Key, PendingSlot, Hash> pending;
         std::uint64_t hits = 0, misses = 0, waits = 0, duplicate_builds = 0, insertions = 0,
                       evictions = 0, remisses = 0;
         std::size_t bytes = 0;
