@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <type_traits>
 #include <stdexcept>
@@ -243,7 +244,7 @@ TileGroup::~TileGroup() {
 }
 
 Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
-    : ctx_(&ctx), root_(root), depth_(std::min(k_tile_depth, ctx.max_level - root.level)) {
+    : ctx_(&ctx), root_(root), depth_(static_cast<std::uint8_t>(std::min(k_tile_depth, ctx.max_level - root.level))) {
     const BuildTimer timer(ctx.build_ns);
     Patch& q = *group.level_;
     const std::vector<std::uint32_t> tile_tris = group.triangles_of(root);
@@ -355,12 +356,10 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
             points[at].edge_normal[direction] = OctahedralNormal::from(Vec3(rec.edge_normal[c]));
         }
     }
-    // Shells relative to a point of the tile: its first grid point at level 1.
-    if (j == 1) origin_ = points[0].position;
     ShellGrid& grid = out.shell_grid();
-    grid = ShellGrid::spanning(shells.data(), shells.size(), origin_);
+    grid = ShellGrid::spanning(shells.data(), shells.size(), origin());
     LevelShell* stored = out.shells();
-    for (std::size_t k = 0; k < shells.size(); ++k) stored[k] = LevelShell::from(shells[k], grid, origin_);
+    for (std::size_t k = 0; k < shells.size(); ++k) stored[k] = LevelShell::from(shells[k], grid, origin());
     ctx_->records_built->fetch_add(shells.size(), std::memory_order_relaxed);
 }
 
@@ -386,12 +385,12 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
         const auto [direction, slot] = edge_slot(id, grid[c], grid[(c + 1) % 3]);
         rec.edge_normal[c] = glm::vec3(level.points()[slot].edge_normal[direction].vector());
     }
-    rec.shell = level.shell(index_in_level(id), origin_);
+    rec.shell = level.shell(index_in_level(id), origin());
     return rec;
 }
 
 void Tile::ensure_level(int j) const {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<SpinLock> lock(lock_);
     const int built = ready_.load(std::memory_order_relaxed);
     if (built >= j) return;  // another thread built it
     const std::size_t before = bytes_held();
@@ -415,7 +414,7 @@ void Tile::ensure_level(int j) const {
                 q.drop_derived();
                 self->frontier_ = std::make_unique<Patch>(std::move(q));
             }
-            ready_.store(k, std::memory_order_release);
+            ready_.store(static_cast<std::uint8_t>(k), std::memory_order_release);
         }
         q.give_back_derived();  // its arrays serve the next patch this thread finishes
     }
@@ -433,7 +432,7 @@ Patch Tile::take_deepest_band() const {
     std::unique_ptr<Patch> kept;
     std::size_t before = 0, after = 0;
     {
-        const std::lock_guard<std::mutex> lock(mutex_);
+        const std::lock_guard<SpinLock> lock(lock_);
         before = bytes_held();
         kept = std::move(const_cast<Tile*>(this)->frontier_);
         after = bytes_held();
@@ -460,7 +459,7 @@ Patch Tile::band_of_child(const NodeId& child_root) const {
         return Patch::copy_of(q, q.band([&](const NodeId& id) { return id == child_root; }));
     };
     {
-        const std::lock_guard<std::mutex> lock(mutex_);
+        const std::lock_guard<SpinLock> lock(lock_);
         if (frontier_) return band_of(*frontier_);
     }
     return band_of(band_at(depth_));
@@ -482,19 +481,22 @@ void TileLevel::allocate(int j, bool with_draw) {
     static_assert(std::is_trivially_destructible_v<TilePoint> && std::is_trivially_destructible_v<Vec3> &&
                   std::is_trivially_destructible_v<ShellGrid> && std::is_trivially_destructible_v<LevelShell>,
                   "a level's block is freed without destructors");
-    static_assert(sizeof(TilePoint) % alignof(Vec3) == 0 && sizeof(Vec3) % alignof(ShellGrid) == 0 &&
+    static_assert(k_header_bytes % alignof(TilePoint) == 0 && sizeof(Header) <= k_header_bytes &&
+                      sizeof(TilePoint) % alignof(Vec3) == 0 && sizeof(Vec3) % alignof(ShellGrid) == 0 &&
                       sizeof(ShellGrid) % alignof(LevelShell) == 0,
                   "each array of the block starts aligned");
-    j_ = static_cast<std::uint8_t>(j);
-    with_draw_ = with_draw;
-    block_.reset(new std::byte[block_bytes()]);
+    // The header first: the accessors below read it.
+    block_.reset(new std::byte[block_bytes(j, with_draw)]);
+    ::new (static_cast<void*>(block_.get())) Header{static_cast<std::uint8_t>(j), with_draw};
     std::uninitialized_value_construct_n(points(), point_count());
-    if (with_draw_) std::uninitialized_value_construct_n(draw(), point_count());
+    if (with_draw) std::uninitialized_value_construct_n(draw(), point_count());
     ::new (static_cast<void*>(&shell_grid())) ShellGrid();
     std::uninitialized_value_construct_n(shells(), shell_count());
 }
 
-std::size_t TileLevel::bytes_held() const { return built() ? heap_bytes(block_bytes()) : 0; }
+std::size_t TileLevel::bytes_held() const {
+    return built() ? heap_bytes(block_bytes(header().j, with_draw())) : 0;
+}
 
 std::size_t Tile::bytes_held() const {
     std::size_t bytes = sizeof(Tile);

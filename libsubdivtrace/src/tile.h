@@ -8,7 +8,6 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
-#include <mutex>
 #include <memory>
 #include <vector>
 
@@ -16,6 +15,7 @@
 #include "node_shell.h"
 #include "octahedral_normal.h"
 #include "patch.h"
+#include "spin_lock.h"
 #include "subdivtrace/hierarchy.h"
 #include "subdivtrace/shell.h"
 
@@ -188,23 +188,23 @@ public:
     void allocate(int j, bool with_draw);
     bool built() const { return block_ != nullptr; }
 
-    std::size_t point_count() const { return (side() + 1) * (side() + 2) / 2; }
-    std::size_t shell_count() const { return side() * side(); }
-    TilePoint* points() { return reinterpret_cast<TilePoint*>(block_.get()); }
-    const TilePoint* points() const { return reinterpret_cast<const TilePoint*>(block_.get()); }
+    std::size_t point_count() const { return point_count(header().j); }
+    std::size_t shell_count() const { return shell_count(header().j); }
+    TilePoint* points() { return reinterpret_cast<TilePoint*>(block_.get() + k_header_bytes); }
+    const TilePoint* points() const { return reinterpret_cast<const TilePoint*>(block_.get() + k_header_bytes); }
     /// Null where the scheme draws at the position (interpolating schemes).
-    Vec3* draw() { return with_draw_ ? reinterpret_cast<Vec3*>(block_.get() + draw_offset()) : nullptr; }
+    Vec3* draw() { return with_draw() ? reinterpret_cast<Vec3*>(block_.get() + draw_offset(header().j)) : nullptr; }
     const Vec3* draw() const {
-        return with_draw_ ? reinterpret_cast<const Vec3*>(block_.get() + draw_offset()) : nullptr;
+        return with_draw() ? reinterpret_cast<const Vec3*>(block_.get() + draw_offset(header().j)) : nullptr;
     }
     /// The grid the level's shells are stored on, then the shells.
     ShellGrid& shell_grid() { return *reinterpret_cast<ShellGrid*>(block_.get() + grid_offset()); }
     const ShellGrid& shell_grid() const {
         return *reinterpret_cast<const ShellGrid*>(block_.get() + grid_offset());
     }
-    LevelShell* shells() { return reinterpret_cast<LevelShell*>(block_.get() + shell_offset()); }
+    LevelShell* shells() { return reinterpret_cast<LevelShell*>(block_.get() + grid_offset() + sizeof(ShellGrid)); }
     const LevelShell* shells() const {
-        return reinterpret_cast<const LevelShell*>(block_.get() + shell_offset());
+        return reinterpret_cast<const LevelShell*>(block_.get() + grid_offset() + sizeof(ShellGrid));
     }
     /// Shell k of the level, relative to the tile's origin.
     Shell shell(std::size_t k, const Vec3& origin) const { return shells()[k].expand(shell_grid(), origin); }
@@ -212,17 +212,30 @@ public:
     std::size_t bytes_held() const;
 
 private:
-    std::size_t side() const { return std::size_t{1} << j_; }
-    std::size_t draw_offset() const { return point_count() * sizeof(TilePoint); }
-    std::size_t grid_offset() const {
-        return draw_offset() + (with_draw_ ? point_count() * sizeof(Vec3) : 0);
+    /// What the block says of itself, in front of its arrays (in the
+    /// block, not the level: a tile has room for three levels and builds
+    /// one, nine times in ten).
+    struct Header {
+        std::uint8_t j;
+        bool with_draw;
+    };
+    static constexpr std::size_t k_header_bytes = 8;  ///< the points' alignment
+    const Header& header() const { return *reinterpret_cast<const Header*>(block_.get()); }
+    bool with_draw() const { return header().with_draw; }
+    std::size_t grid_offset() const { return grid_offset(header().j, with_draw()); }
+
+    // The block's layout: header, points, drawn points (Loop), shell grid, shells.
+    static std::size_t point_count(int j) { return ((std::size_t{1} << j) + 1) * ((std::size_t{1} << j) + 2) / 2; }
+    static std::size_t shell_count(int j) { return std::size_t{1} << (2 * j); }
+    static std::size_t draw_offset(int j) { return k_header_bytes + point_count(j) * sizeof(TilePoint); }
+    static std::size_t grid_offset(int j, bool with_draw) {
+        return draw_offset(j) + (with_draw ? point_count(j) * sizeof(Vec3) : 0);
     }
-    std::size_t shell_offset() const { return grid_offset() + sizeof(ShellGrid); }
-    std::size_t block_bytes() const { return shell_offset() + shell_count() * sizeof(LevelShell); }
+    static std::size_t block_bytes(int j, bool with_draw) {
+        return grid_offset(j, with_draw) + sizeof(ShellGrid) + shell_count(j) * sizeof(LevelShell);
+    }
 
     std::unique_ptr<std::byte[]> block_;
-    std::uint8_t j_ = 0;
-    bool with_draw_ = false;
 };
 
 /// The records of a node's descendants, levels root.level+1 .. root.level+depth.
@@ -248,7 +261,7 @@ public:
         const int j = parent.level + 1 - root_.level;
         if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
         const TileLevel& level = levels_[j - 1];
-        for (int c = 0; c < 4; ++c) out[c] = level.shell(index_in_level(child_of(parent, c)), origin_);
+        for (int c = 0; c < 4; ++c) out[c] = level.shell(index_in_level(child_of(parent, c)), origin());
     }
 
     /// The level below its deepest one (its triangles' children and their
@@ -314,18 +327,21 @@ private:
     /// here) split, cut to the tile's triangles and their border.
     Patch split_band(Patch& q) const;
 
+    /// Shells are stored relative to it: the first grid point of level 1
+    /// (built at construction).
+    const Vec3& origin() const { return levels_[0].points()[0].position; }
+
     const TileContext* ctx_;
     NodeId root_;
-    int depth_ = 0;
     /// Levels 1..depth_ at [j - 1], allocated as they are built.
     std::array<TileLevel, k_tile_depth> levels_;
-    Vec3 origin_{0.0};  ///< shells are stored relative to it
     /// The last level built with its border (without rings and edges), for
     /// the levels and child tiles that start from it (needs_frontier; a
     /// pointer: most tiles never hold one, and a Patch is ~350 bytes).
     std::unique_ptr<Patch> frontier_;
-    mutable std::mutex mutex_;
-    mutable std::atomic<int> ready_{0};
+    std::uint8_t depth_ = 0;
+    mutable SpinLock lock_;  ///< held while a level is built, and around frontier_
+    mutable std::atomic<std::uint8_t> ready_{0};  ///< levels built (1..ready_)
 };
 
 /// Root of the tile that holds node `id` (level >= 1).
