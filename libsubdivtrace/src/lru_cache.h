@@ -22,7 +22,6 @@
 #include <deque>
 #include <exception>
 #include <condition_variable>
-#include <list>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -66,14 +65,23 @@ struct CacheCounters {
 
 template <class Key, class Value, class Hash>
 class ShardedLruCache {
+    /// A cached value, linked from the most recently used to the least.
+    struct Entry {
+        Value value;
+        std::size_t bytes;
+        CacheOwnerTally* owner;
+        const Key* key = nullptr;  ///< its map node's key
+        Entry* newer = nullptr;    ///< towards the most recently used
+        Entry* older = nullptr;
+    };
+
 public:
-    /// Cost of one entry's bookkeeping as allocated: the key twice (list and
-    /// map), the value, its byte count and owner, two list pointers, the map
-    /// node's next pointer, cached hash and iterator, a bucket slot, and
-    /// malloc's header on both nodes. What the value owns besides is passed
-    /// by the build.
+    /// Cost of one entry's bookkeeping as allocated: the map node (key,
+    /// entry, next pointer and cached hash) with malloc's header and
+    /// rounding, and a bucket slot. What the value owns besides is passed by
+    /// the build.
     static constexpr std::size_t k_entry_bytes =
-        2 * sizeof(Key) + sizeof(Value) + sizeof(void*) + 88;
+        (sizeof(std::pair<const Key, Entry>) + 2 * sizeof(void*) + 8 + 15) / 16 * 16 + sizeof(void*);
     static constexpr std::size_t k_shards = 64;
     /// The working limit a cache starts with (or its budget, if lower).
     static constexpr std::size_t k_start_limit = std::size_t{8} << 20;
@@ -130,8 +138,8 @@ public:
             if (it != s.map.end()) {
                 ++s.hits;
                 owner.hits.fetch_add(1, std::memory_order_relaxed);
-                s.order.splice(s.order.begin(), s.order, it->second);
-                return it->second->value;
+                s.make_newest(it->second);
+                return it->second.value;
             }
             auto p = s.pending.find(key);
             if (p != s.pending.end()) {
@@ -149,7 +157,7 @@ public:
                     // this shard's bytes and, of its average entry size, one
                     // for each eviction since, times the shards.
                     const std::size_t evicted_since = static_cast<std::size_t>(s.ghosts.end() - ghost);
-                    const std::size_t entry = s.bytes / std::max<std::size_t>(1, s.order.size());
+                    const std::size_t entry = s.bytes / std::max<std::size_t>(1, s.map.size());
                     needed_bytes = (s.bytes + evicted_since * entry) * shards_.size();
                     entry_bytes = entry;
                 }
@@ -212,8 +220,8 @@ public:
         Shard& s = shard_for(key);
         std::lock_guard<std::mutex> lock(s.mutex);
         auto it = s.map.find(key);
-        if (it == s.map.end() || !is(it->second->value)) return;
-        Entry& e = *it->second;
+        if (it == s.map.end() || !is(it->second.value)) return;
+        Entry& e = it->second;
         CacheOwnerTally& owner = *e.owner;  // the entry itself may be evicted below
         // Unsigned arithmetic wraps consistently: adding (to - from) is exact.
         e.bytes += to - from;
@@ -230,15 +238,14 @@ public:
     void erase_owner(const CacheOwnerTally& owner) {
         for (Shard& s : shards_) {
             std::lock_guard<std::mutex> lock(s.mutex);
-            for (auto it = s.order.begin(); it != s.order.end();) {
-                if (it->owner != &owner) {
-                    ++it;
-                    continue;
+            for (Entry* e = s.newest; e != nullptr;) {
+                Entry* older = e->older;
+                if (e->owner == &owner) {
+                    s.bytes -= e->bytes;
+                    total_bytes_.fetch_sub(e->bytes, std::memory_order_relaxed);
+                    s.erase(*e);
                 }
-                s.bytes -= it->bytes;
-                total_bytes_.fetch_sub(it->bytes, std::memory_order_relaxed);
-                s.map.erase(it->key);
-                it = s.order.erase(it);
+                e = older;
             }
         }
     }
@@ -304,16 +311,37 @@ private:
         std::shared_ptr<PendingBuild> build;
         std::uint32_t index;  ///< among the build's claimed keys
     };
-    struct Entry {
-        Key key;
-        Value value;
-        std::size_t bytes;
-        CacheOwnerTally* owner;
-    };
     struct Shard {
         mutable std::mutex mutex;
-        std::list<Entry> order;
-        std::unordered_map<Key, typename std::list<Entry>::iterator, Hash> map;
+        /// The entries, linked through themselves from the most recently
+        /// used (newest) to the least (oldest): one node per entry, where a
+        /// std::list beside the map was a second node and a second key
+        /// (40 bytes more per tile).
+        std::unordered_map<Key, Entry, Hash> map;
+        Entry* newest = nullptr;
+        Entry* oldest = nullptr;
+
+        void unlink(Entry& e) {
+            (e.newer ? e.newer->older : newest) = e.older;
+            (e.older ? e.older->newer : oldest) = e.newer;
+            e.newer = e.older = nullptr;
+        }
+        void push_newest(Entry& e) {
+            e.older = newest;
+            e.newer = nullptr;
+            (newest ? newest->newer : oldest) = &e;
+            newest = &e;
+        }
+        void make_newest(Entry& e) {
+            if (newest == &e) return;
+            unlink(e);
+            push_newest(e);
+        }
+        void erase(Entry& e) {
+            unlink(e);
+            const Key key = *e.key;  // a copy: the node that holds it goes
+            map.erase(key);
+        }
         /// Keys being built, with the build that fulfils them.
         std::unordered_map<Key, PendingSlot, Hash> pending;
         std::uint64_t hits = 0, misses = 0, waits = 0, duplicate_builds = 0, insertions = 0,
@@ -345,8 +373,10 @@ private:
             return;
         }
         const std::size_t cost = k_entry_bytes + owned_bytes;
-        s.order.push_front({key, value, cost, &owner});
-        s.map.emplace(key, s.order.begin());
+        const auto placed = s.map.emplace(key, Entry{value, cost, &owner});
+        Entry& entry = placed.first->second;
+        entry.key = &placed.first->first;
+        s.push_newest(entry);
         s.bytes += cost;
         ++s.insertions;
         total_bytes_.fetch_add(cost, std::memory_order_relaxed);
@@ -378,22 +408,21 @@ private:
     /// k_ghosts_per_entry per entry the shard holds.
     void remember_evicted_locked(Shard& s, const Key& key) {
         s.ghosts.push_back(Hash{}(key));
-        while (s.ghosts.size() > std::max(k_min_ghosts, k_ghosts_per_entry * s.order.size())) s.ghosts.pop_front();
+        while (s.ghosts.size() > std::max(k_min_ghosts, k_ghosts_per_entry * s.map.size())) s.ghosts.pop_front();
     }
 
     /// Drops the least recently used entries while the shard is over its
     /// share of the working limit.
     void evict_over_budget_locked(Shard& s) {
         const std::size_t shard_budget = limit() / shards_.size();
-        while (s.bytes > shard_budget && s.order.size() > k_min_entries) {
-            Entry& victim = s.order.back();
-            remember_evicted_locked(s, victim.key);
+        while (s.bytes > shard_budget && s.map.size() > k_min_entries) {
+            Entry& victim = *s.oldest;
+            remember_evicted_locked(s, *victim.key);
             s.bytes -= victim.bytes;
             total_bytes_.fetch_sub(victim.bytes, std::memory_order_relaxed);
             victim.owner->bytes.fetch_sub(victim.bytes, std::memory_order_relaxed);
             victim.owner->evictions.fetch_add(1, std::memory_order_relaxed);
-            s.map.erase(victim.key);
-            s.order.pop_back();
+            s.erase(victim);
             ++s.evictions;
         }
     }
