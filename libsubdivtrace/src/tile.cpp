@@ -50,11 +50,11 @@ private:
 /// edge normals, which are kept per grid edge).
 void set_corner(const TileLevel& level, std::size_t v, int k, NodeRecord& rec) {
     const TilePoint& point = level.points()[v];
-    rec.position[k] = point.position;
+    rec.position[k] = point.position();
     rec.shading_normal[k] = point.shading.vector();
     rec.displacement[k] = point.displacement;
     const Vec3* draw = level.draw();
-    rec.draw_position[k] = draw ? draw[v] : point.position;
+    rec.draw_position[k] = draw ? draw[v] : rec.position[k];
 }
 
 /// Triangle index of local grid position (x, y) among the n^2 triangles of
@@ -348,7 +348,7 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
         for (int c = 0; c < 3; ++c) {
             const std::size_t v = vertex_index(tri.id, grid[c][0], grid[c][1]);
             TilePoint& point = points[v];
-            point.position = rec.position[c];
+            point.set_position(rec.position[c]);
             point.shading = OctahedralNormal::from(rec.shading_normal[c]);
             point.displacement = rec.displacement[c];
             if (draw) draw[v] = rec.draw_position[c];
@@ -481,10 +481,11 @@ void TileLevel::allocate(int j, bool with_draw) {
     static_assert(std::is_trivially_destructible_v<TilePoint> && std::is_trivially_destructible_v<Vec3> &&
                   std::is_trivially_destructible_v<ShellGrid> && std::is_trivially_destructible_v<LevelShell>,
                   "a level's block is freed without destructors");
+    static_assert(sizeof(TilePoint) == 52 && std::is_trivially_copyable_v<Vec3>, "a point packs its 13 words");
     static_assert(k_header_bytes % alignof(TilePoint) == 0 && sizeof(Header) <= k_header_bytes &&
-                      sizeof(TilePoint) % alignof(Vec3) == 0 && sizeof(Vec3) % alignof(ShellGrid) == 0 &&
+                      alignof(TilePoint) % alignof(ShellGrid) == 0 && sizeof(Vec3) % alignof(ShellGrid) == 0 &&
                       sizeof(ShellGrid) % alignof(LevelShell) == 0,
-                  "each array of the block starts aligned");
+                  "each array of the block starts aligned (the drawn points by draw_offset's rounding)");
     // The header first: the accessors below read it.
     block_.reset(new std::byte[block_bytes(j, with_draw)]);
     ::new (static_cast<void*>(block_.get())) Header{static_cast<std::uint8_t>(j), with_draw};

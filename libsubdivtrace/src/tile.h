@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cstddef>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -162,15 +163,27 @@ Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots)
 /// What a tile keeps of one grid point of a level: a node record's corner
 /// values (NodeRecord), together, as a ray reads them together, and nothing
 /// a ray does not read (the level's Gouraud normals, which only the build
-/// reads, are not kept: 56 bytes a point, 80 with them). The normals only a
+/// reads, are not kept: 52 bytes a point, 80 with them). The normals only a
 /// ray's shading reads are kept in 6 bytes each (104 bytes as float vectors).
 struct TilePoint {
-    Vec3 position{0.0};
+    /// NodeRecord::position (double: the decisions and both sides of an
+    /// edge read the same bits), kept as bytes: a double member would align
+    /// the point to 8 and pad it from 52 bytes to 56.
+    Vec3 position() const {
+        Vec3 p;
+        std::memcpy(&p, position_bytes_, sizeof p);
+        return p;
+    }
+    void set_position(const Vec3& p) { std::memcpy(position_bytes_, &p, sizeof p); }
+
     float displacement = 0.0f;  ///< NodeRecord::displacement, rounded up
     OctahedralNormal shading;   ///< NodeRecord::shading_normal
     /// NodeRecord::edge_normal once per grid edge: by the edge's direction
     /// (along x, along y, the diagonal), at its first grid point.
     OctahedralNormal edge_normal[3];
+
+private:
+    unsigned char position_bytes_[sizeof(Vec3)] = {};
 };
 
 /// One level of a tile: values on the root's sub-grid of resolution n = 2^j
@@ -227,7 +240,10 @@ private:
     // The block's layout: header, points, drawn points (Loop), shell grid, shells.
     static std::size_t point_count(int j) { return ((std::size_t{1} << j) + 1) * ((std::size_t{1} << j) + 2) / 2; }
     static std::size_t shell_count(int j) { return std::size_t{1} << (2 * j); }
-    static std::size_t draw_offset(int j) { return k_header_bytes + point_count(j) * sizeof(TilePoint); }
+    /// After the points, rounded up to the drawn points' alignment.
+    static std::size_t draw_offset(int j) {
+        return (k_header_bytes + point_count(j) * sizeof(TilePoint) + alignof(Vec3) - 1) / alignof(Vec3) * alignof(Vec3);
+    }
     static std::size_t grid_offset(int j, bool with_draw) {
         return draw_offset(j) + (with_draw ? point_count(j) * sizeof(Vec3) : 0);
     }
@@ -329,7 +345,7 @@ private:
 
     /// Shells are stored relative to it: the first grid point of level 1
     /// (built at construction).
-    const Vec3& origin() const { return levels_[0].points()[0].position; }
+    Vec3 origin() const { return levels_[0].points()[0].position(); }
 
     const TileContext* ctx_;
     NodeId root_;
