@@ -33,14 +33,15 @@ struct FrontTally {
 };
 
 /// A tile as the cache holds it, with the bytes it is charged (computed once,
-/// at build time, before any other thread can see it) and its hierarchy's
-/// front tally.
+/// at build time, before any other thread can see it): what the tile holds,
+/// and this wrapper's share of its make_shared block (the byte count, the
+/// control block's vtable pointer and two counts, malloc's header).
 struct CachedTile {
-    CachedTile(const TileContext& ctx, const NodeId& root, TileGroup& group, std::shared_ptr<FrontTally> tally)
-        : tile(ctx, root, group), bytes(tile.bytes_held()), front_tally(std::move(tally)) {}
+    static constexpr std::size_t k_wrapper_bytes = sizeof(std::size_t) + 16 + 8;
+    CachedTile(const TileContext& ctx, const NodeId& root, TileGroup& group)
+        : tile(ctx, root, group), bytes(tile.bytes_held() + k_wrapper_bytes) {}
     Tile tile;
     std::size_t bytes;
-    std::shared_ptr<FrontTally> front_tally;
 };
 
 }  // namespace detail
@@ -64,6 +65,9 @@ struct Front {
         std::uint64_t owner = 0;
         NodeId root;
         std::shared_ptr<const CachedTile> tile;
+        /// The owner's tally, kept alive while the slot counts in it (a
+        /// thread may outlive the surface; the slot, not each tile, holds it).
+        std::shared_ptr<FrontTally> tally;
     };
     std::array<Slot, k_slots> slots;
     /// Slots each hierarchy holds here, so a thread counts once per hierarchy.
@@ -82,7 +86,7 @@ struct Front {
 
     void drop(Slot& slot) {
         if (!slot.tile) return;
-        FrontTally& tally = *slot.tile->front_tally;
+        FrontTally& tally = *slot.tally;
         tally.tile_bytes.fetch_sub(slot.tile->bytes, std::memory_order_relaxed);
         for (std::size_t k = 0; k < holders.size(); ++k) {
             if (holders[k].first != slot.owner) continue;
@@ -94,6 +98,7 @@ struct Front {
             break;
         }
         slot.tile.reset();
+        slot.tally.reset();
     }
 
     ~Front() {
@@ -271,6 +276,7 @@ public:
         slot.owner = id;
         slot.root = root;
         slot.tile = std::move(t);
+        slot.tally = front_tally;
         return &slot.tile->tile;
     }
 
@@ -329,7 +335,7 @@ public:
             }
             std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
             for (const NodeId& r : roots) {
-                auto t = std::make_shared<const CachedTile>(context, r, *start, front_tally);
+                auto t = std::make_shared<const CachedTile>(context, r, *start);
                 built.emplace_back(t, t->bytes);
             }
             tiles_built.fetch_add(built.size(), std::memory_order_relaxed);
