@@ -93,19 +93,16 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
 
     // Positions of the old vertices (Loop moves them; interpolating schemes keep them).
     const std::size_t old_count = positions.size();
-    // Appended in index order (old vertices, then edge e's point at
-    // old_count + e): a resize would first zero the whole array, ~10% of
-    // a level's time.
     std::vector<Vec3> next;
-    detail::reserve_huge(next, old_count + topo.edge_count());
+    detail::resize_huge(next, old_count + topo.edge_count());
     VertexRing ring_a;
     VertexRing ring_b;
     for (std::size_t v = 0; v < old_count; ++v) {
         if (scheme.moves_old_vertices()) {
             topo.fill_ring(static_cast<std::uint32_t>(v), positions, ring_a);
-            next.push_back(scheme.vertex_rule(ring_a));
+            next[v] = scheme.vertex_rule(ring_a);
         } else {
-            next.push_back(positions[v]);
+            next[v] = positions[v];
         }
     }
 
@@ -129,8 +126,8 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
     for (std::uint32_t e = 0; e < topo.edge_count(); ++e) {
         const LevelTopology::Edge& edge = topo.edge(e);
         if (detail::takes_regular_edge_rule(scheme, edge.interior, edge.curve, edge.a, edge.b, regular_six)) {
-            next.push_back(detail::regular_edge_point(scheme, end_of(edge.a), end_of(edge.b),
-                                                      positions[edge.c], positions[edge.d], position_of));
+            next[old_count + e] = detail::regular_edge_point(scheme, end_of(edge.a), end_of(edge.b),
+                                                             positions[edge.c], positions[edge.d], position_of);
             continue;
         }
         stencil.a = positions[edge.a];
@@ -153,7 +150,7 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
         }
         if (scheme.edge_rule_reads_rings)
             detail::fill_edge_rings(end_of(edge.a), end_of(edge.b), position_of, ring_a, ring_b, stencil);
-        next.push_back(scheme.edge_rule(stencil));
+        next[old_count + e] = scheme.edge_rule(stencil);
     }
 
     // Topology: each triangle becomes four; a crease's halves stay creases.
@@ -290,10 +287,10 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind kind, int 
             }
         }
     }
-    detail::reserve_huge(out.base_face, out.triangles.size());
+    detail::resize_huge(out.base_face, out.triangles.size());
     const std::size_t per_base = std::size_t{1} << (2 * levels);
     for (std::size_t t = 0; t < out.triangles.size(); ++t) {
-        out.base_face.push_back(static_cast<std::uint32_t>(t / per_base));
+        out.base_face[t] = static_cast<std::uint32_t>(t / per_base);
     }
     return out;
 }
