@@ -73,6 +73,10 @@ ShellGrid ShellGrid::spanning(const Shell* shells, std::size_t count, const Vec3
         magnitude += std::abs(origin[a]) + std::max(std::abs(static_cast<double>(grid.lo[a])),
                                                     std::abs(grid.coordinate(a, k_last, Vec3(0.0))));
     grid.pad = round_up(gamma_bound(16) * 2.0 * magnitude);
+    // A level wider than a float reaches (1e38 and up; its magnitude above
+    // is then infinite too): its shells hold everything (expand()).
+    for (int a = 0; a < 3; ++a)
+        if (!std::isfinite(grid.lo[a]) || !std::isfinite(grid.step[a])) grid.pad = std::numeric_limits<float>::infinity();
     return grid;
 }
 

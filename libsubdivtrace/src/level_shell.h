@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -81,6 +82,12 @@ struct LevelShell {
     Shell expand(const ShellGrid& grid, const Vec3& origin) const {
         if (lo[0] > hi[0]) return Shell{};  // stored empty
         Shell s;
+        if (!(grid.pad <= std::numeric_limits<float>::max())) {
+            // A level too wide for the grid (ShellGrid::spanning): unbounded.
+            s.lo = Vec3(-std::numeric_limits<double>::infinity());
+            s.hi = Vec3(std::numeric_limits<double>::infinity());
+            return s;
+        }
         for (int a = 0; a < 3; ++a) {
             s.lo[a] = grid.coordinate(a, lo[a], origin);
             s.hi[a] = grid.coordinate(a, hi[a], origin);

@@ -128,3 +128,28 @@ TEST_CASE("an empty level shell stays empty, and axes are stored exactly", "[she
         REQUIRE(storable_axis(a) == a);
     }
 }
+
+TEST_CASE("a level wider than a float reaches keeps shells that hold everything", "[shells][level_shell]") {
+    Shell wide;
+    wide.axis = storable_axis(glm::normalize(Vec3(1.0, 2.0, 3.0)));
+    const Vec3 points[2] = {Vec3(-1e39, 2.0, 3.0), Vec3(1e39, -5e38, 7e38)};
+    wide.slab_min = wide.slab_max = glm::dot(wide.axis, points[0]);
+    for (const Vec3& p : points) wide.grow_both(p);
+    const Vec3 origin(0.0);
+    const ShellGrid grid = ShellGrid::spanning(&wide, 1, origin);
+    const Shell stored = LevelShell::from(wide, grid, origin).expand(grid, origin);
+    // Compared one by one: Shell::contains passes NaN bounds.
+    for (const Vec3& p : points)
+        for (int a = 0; a < 3; ++a) {
+            CHECK(stored.lo[a] <= p[a]);
+            CHECK(stored.hi[a] >= p[a]);
+        }
+    // A level within float's range keeps finite shells.
+    Shell near_one;
+    near_one.grow(Vec3(1.0));
+    near_one.grow(Vec3(2.0));
+    const ShellGrid finite = ShellGrid::spanning(&near_one, 1, origin);
+    const Shell kept = LevelShell::from(near_one, finite, origin).expand(finite, origin);
+    CHECK(std::isfinite(kept.lo.x));
+    CHECK(std::isfinite(kept.hi.z));
+}
