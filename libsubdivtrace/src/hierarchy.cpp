@@ -394,9 +394,10 @@ std::size_t Hierarchy::face_count() const { return impl_->topo.face_count(); }
 bool Hierarchy::closed() const { return impl_->topo.closed(); }
 const std::shared_ptr<TileCache>& Hierarchy::cache() const { return impl_->cache; }
 
-NodeRecord Hierarchy::node(const NodeId& id) const {
-    if (id.level == 0) return impl_->roots.record(id.face);
-    return impl_->front_tile(detail::tile_root_of(id))->record(id);
+NodeRecord Hierarchy::node(const NodeId& id, Part part) const {
+    const bool normals = part == Part::all;
+    if (id.level == 0) return impl_->roots.record(id.face, normals);
+    return impl_->front_tile(detail::tile_root_of(id))->record(id, normals);
 }
 
 void Hierarchy::child_shells(const NodeId& id, std::array<Shell, 4>& out) const {

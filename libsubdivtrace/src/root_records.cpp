@@ -130,18 +130,20 @@ void RootRecords::lend_normals(Patch& p) const {
         });
 }
 
-NodeRecord RootRecords::record(std::uint32_t face) const {
+NodeRecord RootRecords::record(std::uint32_t face, bool normals) const {
     NodeRecord rec;
     const Triangle& t = mesh_->triangles[face];
     for (int c = 0; c < 3; ++c) {
         rec.position[c] = mesh_->positions[t[c]];
-        rec.shading_normal[c] = Vec3(shading_[t[c]]);
         rec.displacement[c] = displacement_[t[c]];
         rec.draw_position[c] = draw_.empty() ? rec.position[c] : draw_[t[c]];
-        rec.edge_normal[c] = edge_normal_[3 * std::size_t{face} + c];
+        if (normals) {
+            rec.shading_normal[c] = Vec3(shading_[t[c]]);
+            rec.edge_normal[c] = edge_normal_[3 * std::size_t{face} + c];
+        }
     }
     rec.linear_shading = linear_shading_;
-    if (!split_corners_.empty()) {
+    if (normals && !split_corners_.empty()) {
         const auto [lo, hi] = splits_of(face);
         for (const SplitCorner* it = lo; it != hi; ++it) {
             rec.shading_normal[it->slot - 3 * face] = Vec3(it->shading);

@@ -21,7 +21,9 @@ namespace subdivtrace::detail {
 class RootRecords {
 public:
     explicit RootRecords(const TileContext& ctx);
-    NodeRecord record(std::uint32_t face) const;
+    /// Base triangle `face`'s record; without `normals`, its shading and
+    /// edge-midpoint normals are left zero (Hierarchy::Part::geometry).
+    NodeRecord record(std::uint32_t face, bool normals = true) const;
     /// Gives the level-0 patch `p` (finished) the normals of its vertices
     /// with whole rings: the same bits ensure_normal would compute (both sum
     /// the ring in canonical order), once per mesh instead of once per tile.

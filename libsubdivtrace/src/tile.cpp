@@ -47,11 +47,12 @@ private:
 };
 
 /// Corner k of a record from grid point v of a tile level (all but the
-/// edge normals, which are kept per grid edge).
-void set_corner(const TileLevel& level, std::size_t v, int k, NodeRecord& rec) {
+/// edge normals, which are kept per grid edge; the shading normal only with
+/// `normals`).
+void set_corner(const TileLevel& level, std::size_t v, int k, bool normals, NodeRecord& rec) {
     const TilePoint& point = level.points()[v];
     rec.position[k] = point.position();
-    rec.shading_normal[k] = point.shading.vector();
+    if (normals) rec.shading_normal[k] = point.shading.vector();
     rec.displacement[k] = point.displacement;
     const Vec3* draw = level.draw();
     rec.draw_position[k] = draw ? draw[v] : rec.position[k];
@@ -376,12 +377,13 @@ std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, const GridPoint& p
 }
 
 
-NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id) const {
+NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id, bool normals) const {
     NodeRecord rec;
     const auto grid = node_corner_grid(id);
     for (int c = 0; c < 3; ++c) {
         const std::size_t v = vertex_index(id, grid[c][0], grid[c][1]);
-        set_corner(level, v, c, rec);
+        set_corner(level, v, c, normals, rec);
+        if (!normals) continue;
         const auto [direction, slot] = edge_slot(id, grid[c], grid[(c + 1) % 3]);
         rec.edge_normal[c] = glm::vec3(level.points()[slot].edge_normal[direction].vector());
     }

@@ -264,11 +264,12 @@ public:
     Tile(const TileContext& ctx, const NodeId& root, TileGroup& group);
 
     /// The record of descendant `id` (root.level < id.level <= root.level + depth),
-    /// building its level first if needed. Thread-safe.
-    NodeRecord record(const NodeId& id) const {
+    /// building its level first if needed; without `normals` (Hierarchy::Part::
+    /// geometry), its shading and edge-midpoint normals stay zero. Thread-safe.
+    NodeRecord record(const NodeId& id, bool normals = true) const {
         const int j = id.level - root_.level;
         if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
-        return assemble(levels_[j - 1], id);
+        return assemble(levels_[j - 1], id, normals);
     }
 
     /// The shells alone of those four children (what a ray tests before it
@@ -329,7 +330,8 @@ private:
     std::pair<int, std::size_t> edge_slot(const NodeId& id, int e) const;
     std::pair<int, std::size_t> edge_slot(const NodeId& id, const GridPoint& p,
                                           const GridPoint& q) const;
-    NodeRecord assemble(const TileLevel& level, const NodeId& id) const;
+    /// Without `normals`, the shading and edge-midpoint normals stay zero.
+    NodeRecord assemble(const TileLevel& level, const NodeId& id, bool normals) const;
     /// Level j's records from `q`, level j - 1 with its border; leaves
     /// level j's band in `q`, finished.
     void build_level(int j, Patch& q);

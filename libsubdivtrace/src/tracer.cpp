@@ -52,7 +52,10 @@ namespace {
 /// stay there for every descendant.
 struct DrawnCorner {
     Vec3 position;
-    Vec3 normal;
+    /// Whose record holds its shading normal, and as which corner: read only
+    /// for the leaf a ray hits (the descent reads records without normals).
+    NodeId normal_node;
+    int normal_corner;
     Vec2 domain;  ///< barycentric weights of base corners 1 and 2
     bool alive;
 };
@@ -112,7 +115,7 @@ public:
         lo.reserve(mesh.triangles.size());
         hi.reserve(mesh.triangles.size());
         for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-            const Shell shell = hierarchy.node(Hierarchy::root(f)).shell;
+            const Shell shell = hierarchy.node(Hierarchy::root(f), Hierarchy::Part::geometry).shell;
             lo.push_back(shell.lo);
             hi.push_back(shell.hi);
             bounds.lo = f == 0 ? lo.back() : glm::min(bounds.lo, lo.back());
@@ -313,7 +316,7 @@ struct Walk {
         h.point = th.b0 * drawn[0].position + th.b1 * drawn[1].position + th.b2 * drawn[2].position;
         h.geometric_normal = finish_normal(glm::cross(drawn[1].position - drawn[0].position,
                                                       drawn[2].position - drawn[0].position));
-        h.normal = shading_normal(rec, drawn, th);
+        h.normal = shading_normal(id, drawn, th);
         if (h.normal == Vec3(0.0)) h.normal = h.geometric_normal;
         const Vec2 w = th.b0 * drawn[0].domain + th.b1 * drawn[1].domain + th.b2 * drawn[2].domain;
         if (s.mesh.has_uvs()) {
@@ -357,8 +360,17 @@ struct Walk {
     /// midpoints one level down): a coarse leaf then shades about as a leaf
     /// one level finer would. Otherwise (snapped corners: the drawn triangle
     /// is not the node's; the user's normals) the corners' linear blend.
-    static Vec3 shading_normal(const NodeRecord& rec, const DrawnCorner* drawn,
-                               const detail::TriangleHit& th) {
+    /// The normals are read here, from the leaf's whole record and those its
+    /// snapped corners came from.
+    Vec3 shading_normal(const NodeId& id, const DrawnCorner* drawn, const detail::TriangleHit& th) const {
+        const NodeRecord rec = s.hierarchy.node(id);
+        Vec3 normal[3];
+        for (int c = 0; c < 3; ++c) {
+            const DrawnCorner& corner = drawn[c];
+            normal[c] = corner.normal_node == id
+                            ? rec.shading_normal[corner.normal_corner]
+                            : s.hierarchy.node(corner.normal_node).shading_normal[corner.normal_corner];
+        }
         const double b[3] = {th.b0, th.b1, th.b2};
         bool quadratic = !rec.linear_shading;
         for (int c = 0; c < 3; ++c)
@@ -366,13 +378,12 @@ struct Walk {
         Vec3 sum(0.0);
         for (int c = 0; c < 3; ++c) {
             if (!quadratic) {
-                sum += b[c] * drawn[c].normal;
+                sum += b[c] * normal[c];
                 continue;
             }
             // Quadratic Lagrange weights: b(2b - 1) at a corner, 4 b b' at a midpoint.
             const int d = (c + 1) % 3;
-            sum += b[c] * (2.0 * b[c] - 1.0) * drawn[c].normal +
-                   4.0 * b[c] * b[d] * Vec3(rec.edge_normal[c]);
+            sum += b[c] * (2.0 * b[c] - 1.0) * normal[c] + 4.0 * b[c] * b[d] * Vec3(rec.edge_normal[c]);
         }
         return finish_normal(sum);
     }
@@ -386,10 +397,9 @@ struct Walk {
     /// Starts the descent at a base triangle: its corners and edges are its own.
     void visit_root(std::uint32_t face) {
         const NodeId id = Hierarchy::root(face);
-        const NodeRecord rec = s.hierarchy.node(id);
+        const NodeRecord rec = s.hierarchy.node(id, Hierarchy::Part::geometry);
         DrawnCorner drawn[3];
-        for (int c = 0; c < 3; ++c)
-            drawn[c] = {rec.draw_position[c], rec.shading_normal[c], grid_domain(id, c), true};
+        for (int c = 0; c < 3; ++c) drawn[c] = {rec.draw_position[c], id, c, grid_domain(id, c), true};
         double t_entry;
         if (!shell_entry(rec.shell, drawn, t_entry)) return;
         const bool exists[3] = {true, true, true};
@@ -489,10 +499,10 @@ struct Walk {
             inherited.snap_depth = snapped ? snap_depth : 0.0;
             // Its own corners (the alive ones: every other is a parent's
             // dead corner or a snapped one) come from its record.
-            const NodeRecord child_rec = s.hierarchy.node(ch.id);
+            const NodeRecord child_rec = s.hierarchy.node(ch.id, Hierarchy::Part::geometry);
             for (int c = 0; c < 3; ++c)
                 if (ch.drawn[c].alive)
-                    ch.drawn[c] = {child_rec.draw_position[c], child_rec.shading_normal[c], grid_domain(ch.id, c), true};
+                    ch.drawn[c] = {child_rec.draw_position[c], ch.id, c, grid_domain(ch.id, c), true};
             visit(ch.id, child_rec, ch.drawn, ch.exists, inherited);
         }
     }

@@ -108,10 +108,17 @@ public:
 
     static NodeId root(std::uint32_t face) { return root_node(face); }
 
+    /// What node() fills in: the whole record, or all but its normals
+    /// (shading_normal and edge_normal left zero), which is what a ray's
+    /// descent reads; the tracer reads the normals of the leaf it hits alone.
+    /// A tile keeps them compressed (octahedral), and decoding six per record
+    /// was about half of assembling one.
+    enum class Part { all, geometry };
+
     /// The node's record, from the cache or built now. Thread-safe; the result
     /// does not depend on the cache's contents (evicted entries are rebuilt
     /// bit-identically).
-    NodeRecord node(const NodeId& id) const;
+    NodeRecord node(const NodeId& id, Part part = Part::all) const;
 
     /// The records of the four children of `id` (level < max_level), in
     /// child_of order (node() of each). Thread-safe.
