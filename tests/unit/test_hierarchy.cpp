@@ -501,3 +501,43 @@ TEST_CASE("child shells alone are the shells of the children's records", "[hiera
         CHECK(differing == 0);
     }
 }
+
+TEST_CASE("geometry-only records are the whole records without their normals", "[hierarchy]") {
+    // The tracer descends through Part::geometry records and reads the
+    // normals of the leaf it hits from node(): everything else must be the
+    // same bits, at every level and in base records too.
+    const Mesh mesh = testmesh::irregular_closed(3);
+    for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
+        INFO(scheme_name(scheme));
+        const Hierarchy h(mesh, scheme, 5, std::size_t{64} << 20);
+        std::size_t compared = 0, differing = 0, with_normals = 0;
+        std::vector<NodeId> level;
+        for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) level.push_back(Hierarchy::root(f));
+        for (int l = 0; l <= 4; ++l) {
+            std::vector<NodeId> next;
+            for (const NodeId& id : level) {
+                const NodeRecord whole = h.node(id);
+                const NodeRecord geometry = h.node(id, Hierarchy::Part::geometry);
+                ++compared;
+                bool same = whole.linear_shading == geometry.linear_shading && whole.shell.lo == geometry.shell.lo &&
+                            whole.shell.hi == geometry.shell.hi && whole.shell.slab_min == geometry.shell.slab_min &&
+                            whole.shell.slab_max == geometry.shell.slab_max;
+                for (int c = 0; c < 3; ++c) {
+                    same = same && whole.position[c] == geometry.position[c] &&
+                           whole.draw_position[c] == geometry.draw_position[c] &&
+                           whole.displacement[c] == geometry.displacement[c] &&
+                           geometry.shading_normal[c] == Vec3(0.0) && geometry.edge_normal[c] == glm::vec3(0.0f);
+                    with_normals += whole.shading_normal[c] != Vec3(0.0) ? 1 : 0;
+                }
+                if (!same) ++differing;
+                if (l < 4)
+                    for (int c = 0; c < 4; ++c)
+                        if ((id.i + id.j + static_cast<std::uint32_t>(c)) % 3 == 0) next.push_back(child_of(id, c));
+            }
+            level = std::move(next);
+        }
+        CHECK(compared > 500);
+        CHECK(with_normals > 0);
+        CHECK(differing == 0);
+    }
+}
