@@ -33,7 +33,7 @@ struct NodeRecord {
     /// at max_level, and the given normals at level 0. (A record holds only
     /// what a ray reads: the level-L normals at other levels stay in the
     /// build.)
-    std::array<Vec3, 3> shading_normal;
+    std::array<Vec3, 3> shading_normal{};
     /// The normal at the midpoint of edge e (corner e to e + 1) one level
     /// down, from the edge point's ring as shading_normal is from a corner's
     /// (zero where that ring has no area). A leaf whose corners are its own
