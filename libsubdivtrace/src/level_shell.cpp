@@ -95,13 +95,7 @@ LevelShell LevelShell::from(const Shell& s, const ShellGrid& grid, const Vec3& o
         c.axis[a] = axis_bits(s.axis[a]);
     }
     if (c.axis[0] != 0 || c.axis[1] != 0 || c.axis[2] != 0) {
-        Shell box;
-        for (int a = 0; a < 3; ++a) {
-            box.lo[a] = grid.coordinate(a, c.lo[a], origin);
-            box.hi[a] = grid.coordinate(a, c.hi[a], origin);
-            box.axis[a] = axis_of_bits(c.axis[a]);
-        }
-        const SlabSpan span = SlabSpan::of(box);
+        const SlabSpan span = SlabSpan::of(c.box(grid, origin));
         const auto value = [&](std::uint16_t q) { return span.value(q); };
         c.slab[0] = step_at_or_below(s.slab_min, span.base, span.step, value);
         c.slab[1] = step_at_or_above(s.slab_max, span.base, span.step, value);

@@ -81,18 +81,14 @@ struct LevelShell {
     /// Inline: a ray expands the shells of the four children of every node it enters.
     Shell expand(const ShellGrid& grid, const Vec3& origin) const {
         if (lo[0] > hi[0]) return Shell{};  // stored empty
-        Shell s;
         if (!(grid.pad <= std::numeric_limits<float>::max())) {
             // A level too wide for the grid (ShellGrid::spanning): unbounded.
-            s.lo = Vec3(-std::numeric_limits<double>::infinity());
-            s.hi = Vec3(std::numeric_limits<double>::infinity());
-            return s;
+            Shell unbounded;
+            unbounded.lo = Vec3(-std::numeric_limits<double>::infinity());
+            unbounded.hi = Vec3(std::numeric_limits<double>::infinity());
+            return unbounded;
         }
-        for (int a = 0; a < 3; ++a) {
-            s.lo[a] = grid.coordinate(a, lo[a], origin);
-            s.hi[a] = grid.coordinate(a, hi[a], origin);
-            s.axis[a] = axis_of_bits(axis[a]);
-        }
+        Shell s = box(grid, origin);
         if (s.axis != Vec3(0.0)) {
             const SlabSpan span = SlabSpan::of(s);
             s.slab_min = span.value(slab[0]);
@@ -101,8 +97,20 @@ struct LevelShell {
         s.pad(grid.pad);
         return s;
     }
+
+private:
+    /// The stored box and axis, unpadded and without the slab: what
+    /// expand() starts from and from() measures the slab against.
+    Shell box(const ShellGrid& grid, const Vec3& origin) const {
+        Shell s;
+        for (int a = 0; a < 3; ++a) {
+            s.lo[a] = grid.coordinate(a, lo[a], origin);
+            s.hi[a] = grid.coordinate(a, hi[a], origin);
+            s.axis[a] = axis_of_bits(axis[a]);
+        }
+        return s;
+    }
 };
 static_assert(sizeof(LevelShell) == 22, "eleven 16-bit values, no padding");
-
 
 }  // namespace subdivtrace::detail

@@ -357,10 +357,11 @@ void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
             points[at].edge_normal[direction] = OctahedralNormal::from(Vec3(rec.edge_normal[c]));
         }
     }
+    const Vec3 origin = this->origin();
     ShellGrid& grid = out.shell_grid();
-    grid = ShellGrid::spanning(shells.data(), shells.size(), origin());
+    grid = ShellGrid::spanning(shells.data(), shells.size(), origin);
     LevelShell* stored = out.shells();
-    for (std::size_t k = 0; k < shells.size(); ++k) stored[k] = LevelShell::from(shells[k], grid, origin());
+    for (std::size_t k = 0; k < shells.size(); ++k) stored[k] = LevelShell::from(shells[k], grid, origin);
     ctx_->records_built->fetch_add(shells.size(), std::memory_order_relaxed);
 }
 
