@@ -38,7 +38,7 @@ std::size_t mapping_bytes(std::size_t bytes) {
 
 void* allocate_huge_block(std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (bytes >= k_huge_block_bytes) {
+    if (bytes >= k_own_mapping_bytes) {
         const std::size_t size = mapping_bytes(bytes);
         if (size < bytes) throw std::bad_alloc();  // wrapped around
         // Map 2 MB more than needed, then unmap what lies outside the
@@ -62,7 +62,7 @@ void* allocate_huge_block(std::size_t bytes) {
 void free_huge_block(void* block, std::size_t bytes) noexcept {
     if (block == nullptr) return;
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (bytes >= k_huge_block_bytes) {
+    if (bytes >= k_own_mapping_bytes) {
         munmap(block, mapping_bytes(bytes));
         return;
     }

@@ -19,10 +19,18 @@
 
 namespace subdivtrace::detail {
 
-/// Blocks from 2 MB up are mappings of their own (allocate_huge_block).
+/// The size of a huge page.
 constexpr std::size_t k_huge_block_bytes = std::size_t{2} << 20;
+/// Blocks from 256 kB up are mappings of their own (allocate_huge_block),
+/// rounded up to whole huge pages. Below 2 MB that keeps up to twice the
+/// block's bytes (a huge page is allocated whole on its first write), but a
+/// level's per-vertex arrays are 0.3-2 MB: as operator new's they faulted
+/// a 4 kB page at a time, about 10 us each here, and were most of uniform
+/// subdivision's faults (docs/benchmarks.md, "Huge pages for mid-size
+/// arrays").
+constexpr std::size_t k_own_mapping_bytes = std::size_t{256} << 10;
 
-/// `bytes` of memory aligned to 16 bytes: from k_huge_block_bytes up a
+/// `bytes` of memory aligned to 16 bytes: from k_own_mapping_bytes up a
 /// mapping of its own aligned to 2 MB and advised onto huge pages, below
 /// that operator new's. Throws std::bad_alloc when there is none.
 void* allocate_huge_block(std::size_t bytes);

@@ -45,3 +45,34 @@ TEST_CASE("huge-page reserve, assign and resize keep std::vector's contents", "[
     advise_huge_pages(small.data(), small.size());
     CHECK(small == std::vector<char>(100, 'x'));
 }
+
+TEST_CASE("HugeArray keeps its contents as it grows across the block sizes", "[huge_pages]") {
+    // From operator new's blocks through mappings of their own below one
+    // huge page (k_own_mapping_bytes) to several huge pages: every element
+    // survives each reallocation, and every block is aligned for any type.
+    HugeArray<std::uint64_t> grown;
+    std::size_t last_capacity = 0, reallocations = 0;
+    const std::size_t n = 3 * k_huge_block_bytes / sizeof(std::uint64_t);
+    for (std::uint64_t i = 0; i < n; ++i) {
+        grown.push_back(i * 2654435761u);
+        if (grown.capacity() != last_capacity) {
+            last_capacity = grown.capacity();
+            ++reallocations;
+            CHECK(reinterpret_cast<std::uintptr_t>(grown.data()) % 16 == 0);
+        }
+    }
+    CHECK(reallocations > 10);  // it crossed both thresholds
+    std::size_t wrong = 0;
+    for (std::uint64_t i = 0; i < n; ++i) wrong += grown[i] != i * 2654435761u;
+    CHECK(wrong == 0);
+
+    // Exactly at the thresholds, and one element either side of them.
+    for (const std::size_t bytes : {k_own_mapping_bytes, k_huge_block_bytes}) {
+        for (const std::size_t count : {bytes / 8 - 1, bytes / 8, bytes / 8 + 1}) {
+            HugeArray<std::uint64_t> a(count, 9);
+            CHECK(a.size() == count);
+            CHECK(a.front() == 9);
+            CHECK(a.back() == 9);
+        }
+    }
+}
