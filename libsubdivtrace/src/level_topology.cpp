@@ -174,10 +174,11 @@ void LevelTopology::build_vertex_data(std::size_t vertex_count,
         for (std::uint32_t c = 0; c < 3; ++c) inc_slots_[fill[triangles[t][c]]++] = 3 * t + c;
 
     // Sectors, where creases pass.
-    sector_labels_.assign(vertex_count, {});
+    sector_labels_.clear();
     single_sector_.assign(vertex_count, 1);
     if (!crease_masks.empty()) {
         std::vector<detail::FanCorner> corners;
+        std::vector<std::uint32_t> labels;
         for (std::uint32_t v = 0; v < vertex_count; ++v) {
             if (curve_count_[v] == 0) continue;
             corners.clear();
@@ -187,8 +188,10 @@ void LevelTopology::build_vertex_data(std::size_t vertex_count,
                 const std::uint32_t e_prev = face_edges_[slot - c + (c + 2) % 3];
                 corners.push_back({e_prev, e_next, edges_[e_prev].curve, edges_[e_next].curve});
             }
-            if (detail::label_sectors(corners, sector_labels_[v]) > 1) single_sector_[v] = 0;
-            else sector_labels_[v].clear();
+            if (detail::label_sectors(corners, labels) > 1) {
+                single_sector_[v] = 0;
+                sector_labels_.insert(sector_labels_.end(), labels.begin(), labels.end());
+            }
         }
     }
 
@@ -321,17 +324,17 @@ detail::HugeArray<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& p
     // Vertices that creases split: a sum per sector, written back over the
     // corners it was summed from (each corner is read for its own vertex only).
     std::vector<Vec3> sums;
+    const std::uint32_t* labels = sector_labels_.data();  // the split vertices' in turn
     for (std::uint32_t v = 0; v < positions.size(); ++v) {
         if (single_sector_[v]) continue;
-        const std::vector<std::uint32_t>& labels = sector_labels_[v];
-        std::uint32_t count = 1;
-        for (std::uint32_t l : labels) count = std::max(count, l + 1);
-        sums.assign(count, Vec3(0.0));
-        for (std::size_t k = inc_offsets_[v]; k < inc_offsets_[v + 1]; ++k)
-            sums[labels[k - inc_offsets_[v]]] += out[inc_slots_[k]];
+        const std::size_t first = inc_offsets_[v], count = inc_offsets_[v + 1] - first;
+        std::uint32_t sectors = 1;
+        for (std::size_t k = 0; k < count; ++k) sectors = std::max(sectors, labels[k] + 1);
+        sums.assign(sectors, Vec3(0.0));
+        for (std::size_t k = 0; k < count; ++k) sums[labels[k]] += out[inc_slots_[first + k]];
         for (Vec3& sum : sums) sum = finish_normal(sum);
-        for (std::size_t k = inc_offsets_[v]; k < inc_offsets_[v + 1]; ++k)
-            out[inc_slots_[k]] = sums[labels[k - inc_offsets_[v]]];
+        for (std::size_t k = 0; k < count; ++k) out[inc_slots_[first + k]] = sums[labels[k]];
+        labels += count;
     }
     const detail::HugeArray<Vec3> smooth = vertex_sums(positions.size(), triangles, out);
     for (std::size_t t = 0; t < triangles.size(); ++t)

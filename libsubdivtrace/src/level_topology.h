@@ -126,7 +126,11 @@ private:
     detail::HugeArray<std::uint32_t> curve_nbr_;
     detail::HugeArray<std::size_t> inc_offsets_;   ///< incident corner slots 3t + c, CSR
     detail::HugeArray<std::uint32_t> inc_slots_;
-    detail::HugeArray<std::vector<std::uint32_t>> sector_labels_;  ///< per vertex, by incident slot; empty = one
+    /// The sector of each incident slot (inc_slots_ order) of every vertex
+    /// that creases split, those vertices one after another in index order;
+    /// nothing for the others (most of them), which had cost an empty
+    /// std::vector each (24 bytes a vertex, zeroed at every level).
+    std::vector<std::uint32_t> sector_labels_;
     detail::HugeArray<std::uint8_t> single_sector_;
 };
 
