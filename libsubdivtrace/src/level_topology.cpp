@@ -1,6 +1,7 @@
 #include "level_topology.h"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "creases.h"
 #include "edge_sides.h"
@@ -343,10 +344,11 @@ detail::HugeArray<Vec3> LevelTopology::sector_normals(const std::vector<Vec3>& p
     return out;
 }
 
-std::vector<Vec3> smooth_vertex_normals(const std::vector<Vec3>& positions,
-                                        const std::vector<Triangle>& triangles) {
-    std::vector<Vec3> sums;
-    detail::assign_huge(sums, positions.size(), Vec3(0.0));
+template <class Normals>
+void smooth_vertex_normals(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
+                           Normals& sums) {
+    if constexpr (std::is_same_v<Normals, std::vector<Vec3>>) detail::assign_huge(sums, positions.size(), Vec3(0.0));
+    else sums.assign(positions.size(), Vec3(0.0));
     // A block of triangles at a time, so the corners' angles vectorise.
     constexpr std::size_t k_block = 256;
     Vec3 corners[3 * k_block];
@@ -357,7 +359,10 @@ std::vector<Vec3> smooth_vertex_normals(const std::vector<Vec3>& positions,
             for (int c = 0; c < 3; ++c) sums[triangles[start + k][c]] += corners[3 * k + c];
     }
     for (Vec3& sum : sums) sum = finish_normal(sum);
-    return sums;
 }
+
+template void smooth_vertex_normals(const std::vector<Vec3>&, const std::vector<Triangle>&, std::vector<Vec3>&);
+template void smooth_vertex_normals(const std::vector<Vec3>&, const std::vector<Triangle>&,
+                                    detail::HugeArray<Vec3>&);
 
 }  // namespace subdivtrace

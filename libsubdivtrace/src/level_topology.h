@@ -137,7 +137,10 @@ private:
 /// LevelTopology::sector_normals for a level without creases or given
 /// normals, once per vertex (every corner of a vertex has it) and without
 /// building the topology or a per-corner array: the same bits.
-std::vector<Vec3> smooth_vertex_normals(const std::vector<Vec3>& positions,
-                                        const std::vector<Triangle>& triangles);
+/// Into `normals` (std::vector, for what uniform subdivision returns, or
+/// HugeArray, for its levels' own: those faulted 4 kB at a time).
+template <class Normals>
+void smooth_vertex_normals(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
+                           Normals& normals);
 
 }  // namespace subdivtrace

@@ -55,7 +55,7 @@ bool given_at_level(const Mesh& base, const SchemeRules& scheme, int level, bool
 /// every level. The same bits either way (smooth_vertex_normals).
 struct CornerNormals {
     detail::HugeArray<Vec3> per_corner;  ///< 3t + c; empty when per_vertex holds them
-    std::vector<Vec3> per_vertex;
+    detail::HugeArray<Vec3> per_vertex;
     /// The normal at corner `slot` (3t + c), whose vertex is v.
     const Vec3& at(std::size_t slot, std::uint32_t v) const {
         return per_corner.empty() ? per_vertex[v] : per_corner[slot];
@@ -70,7 +70,7 @@ CornerNormals scheme_normals(const Mesh& base, const SchemeRules& scheme, const 
     CornerNormals normals;
     const bool given = given_at_level(base, scheme, level, given_every_level);
     if (!given && topo.one_sector_everywhere())
-        normals.per_vertex = smooth_vertex_normals(positions, triangles);
+        smooth_vertex_normals(positions, triangles, normals.per_vertex);
     else
         normals.per_corner = topo.sector_normals(
             positions, triangles, given ? given_corner_normals(base, triangles, level) : detail::HugeArray<Vec3>{});
@@ -264,12 +264,12 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind kind, int 
     if (!topo) {
         // No crease and no given normal at the last level: one normal per
         // vertex, summed directly (no per-corner array).
-        out.vertex_normals = smooth_vertex_normals(out.positions, out.triangles);
+        smooth_vertex_normals(out.positions, out.triangles, out.vertex_normals);
     } else {
         CornerNormals normals =
             scheme_normals(mesh, scheme, *topo, out.positions, out.triangles, levels, given_every_level);
         if (normals.per_corner.empty()) {
-            out.vertex_normals = std::move(normals.per_vertex);
+            out.vertex_normals.assign(normals.per_vertex.begin(), normals.per_vertex.end());
         } else {
             // A vertex's first corner (in slot order) names its normal; the
             // corners that differ are kept apart.
