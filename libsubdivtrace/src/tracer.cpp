@@ -122,7 +122,6 @@ public:
             bounds.hi = f == 0 ? hi.back() : glm::max(bounds.hi, hi.back());
         }
         top.build(std::move(lo), std::move(hi), 2);
-        level_histogram = std::vector<std::atomic<std::uint64_t>>(k_max_level_cap + 1);
     }
 
     void trace(const Ray& ray, bool all, Hit* nearest, bool* found, std::vector<Hit>* hits,
@@ -135,13 +134,16 @@ public:
     Hierarchy hierarchy;
     detail::Bvh top;
     Bounds3 bounds;
-    mutable std::vector<std::atomic<std::uint64_t>> level_histogram;
     /// Running totals, relaxed atomics: no ray waits on another for them.
-    struct Totals {
+    /// One set per thread slot (a thread keeps its slot), each on cache
+    /// lines of its own: a ray adds to seven of them, and threads adding to
+    /// one shared set passed its cache lines back and forth at every ray.
+    struct alignas(64) Totals {
         std::atomic<std::uint64_t> rays{0}, nodes_visited{0}, leaves_tested{0};
         std::atomic<std::uint64_t> hits{0}, hits_at_max_level{0};
         std::atomic<int> deepest_level{0};
         std::atomic<double> error_bound_px_sum{0.0}, error_bound_px_max{0.0};
+        std::array<std::atomic<std::uint64_t>, k_max_level_cap + 1> level_histogram{};
         void add(const TraceCounters& c) {
             rays.fetch_add(c.rays, std::memory_order_relaxed);
             nodes_visited.fetch_add(c.nodes_visited, std::memory_order_relaxed);
@@ -165,7 +167,31 @@ public:
             }
         }
     };
-    mutable Totals totals;
+    static constexpr std::size_t k_total_slots = 16;
+    mutable std::array<Totals, k_total_slots> totals;
+    /// The calling thread's set of totals.
+    Totals& my_totals() const {
+        static std::atomic<std::size_t> next_slot{0};
+        thread_local const std::size_t slot = next_slot.fetch_add(1, std::memory_order_relaxed) % k_total_slots;
+        return totals[slot];
+    }
+    /// The totals summed over every thread's.
+    TraceCounters summed_totals(std::vector<std::uint64_t>& histogram) const {
+        TraceCounters sum;
+        histogram.assign(k_max_level_cap + 1, 0);
+        for (const Totals& t : totals) {
+            sum.rays += t.rays.load();
+            sum.nodes_visited += t.nodes_visited.load();
+            sum.leaves_tested += t.leaves_tested.load();
+            sum.hits += t.hits.load();
+            sum.hits_at_max_level += t.hits_at_max_level.load();
+            sum.deepest_level = std::max(sum.deepest_level, t.deepest_level.load());
+            sum.error_bound_px_sum += t.error_bound_px_sum.load();
+            sum.error_bound_px_max = std::max(sum.error_bound_px_max, t.error_bound_px_max.load());
+            for (std::size_t l = 0; l < histogram.size(); ++l) histogram[l] += t.level_histogram[l].load();
+        }
+        return sum;
+    }
 };
 
 namespace {
@@ -533,8 +559,9 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
     top.traverse(walk.query, walk.t_max, [&](std::uint32_t face) { walk.visit_root(face); });
     if (found) *found = walk.found;
     if (nearest && walk.found) *nearest = walk.best;
+    Totals& totals_here = my_totals();
     const auto count_hit = [&](const Hit& h) {
-        level_histogram[h.level].fetch_add(1, std::memory_order_relaxed);
+        totals_here.level_histogram[h.level].fetch_add(1, std::memory_order_relaxed);
         ++walk.counters.hits;
         walk.counters.error_bound_px_sum += h.surface_error_px;
         walk.counters.error_bound_px_max = std::max(walk.counters.error_bound_px_max, h.surface_error_px);
@@ -546,7 +573,7 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
         for (const Hit& h : *hits) count_hit(h);
     }
     if (counters) counters->add(walk.counters);
-    totals.add(walk.counters);
+    totals_here.add(walk.counters);
 }
 
 void SurfaceImpl::collect_drawn(const Vec3& origin, double origin_distance,
@@ -611,14 +638,16 @@ void AdaptiveSurface::set_view(const View& view) {
 
 SurfaceStats AdaptiveSurface::stats() const {
     SurfaceStats s;
-    s.trace.rays = impl_->totals.rays.load();
-    s.trace.nodes_visited = impl_->totals.nodes_visited.load();
-    s.trace.leaves_tested = impl_->totals.leaves_tested.load();
-    s.trace.deepest_level = impl_->totals.deepest_level.load();
-    s.trace.hits = impl_->totals.hits.load();
-    s.trace.hits_at_max_level = impl_->totals.hits_at_max_level.load();
-    s.trace.error_bound_px_sum = impl_->totals.error_bound_px_sum.load();
-    s.trace.error_bound_px_max = impl_->totals.error_bound_px_max.load();
+    std::vector<std::uint64_t> histogram;
+    const TraceCounters totals = impl_->summed_totals(histogram);
+    s.trace.rays = totals.rays;
+    s.trace.nodes_visited = totals.nodes_visited;
+    s.trace.leaves_tested = totals.leaves_tested;
+    s.trace.deepest_level = totals.deepest_level;
+    s.trace.hits = totals.hits;
+    s.trace.hits_at_max_level = totals.hits_at_max_level;
+    s.trace.error_bound_px_sum = totals.error_bound_px_sum;
+    s.trace.error_bound_px_max = totals.error_bound_px_max;
     const HierarchyCounters h = impl_->hierarchy.counters();
     s.trace.cache_hits = h.node_hits;
     s.trace.cache_misses = h.node_misses;
@@ -639,7 +668,7 @@ SurfaceStats AdaptiveSurface::stats() const {
     s.memory.front_threads = h.fronts;
     s.memory.levels_below = h.below_bytes;
     s.base_triangles = m.triangles.size();
-    for (const auto& c : impl_->level_histogram) s.leaf_level_histogram.push_back(c.load());
+    s.leaf_level_histogram = std::move(histogram);
     while (!s.leaf_level_histogram.empty() && s.leaf_level_histogram.back() == 0)
         s.leaf_level_histogram.pop_back();
     return s;
