@@ -40,4 +40,13 @@ inline float round_down(double x) {
     return f;
 }
 
+/// A float one step below round_down(x): for an x that is itself a rounded
+/// double (a coordinate minus an origin, say), the extra step covers that
+/// rounding, so the float stays below the exact value (the compact and the
+/// level shells store their lower bounds so).
+inline float float_below_rounded(double x) { return next_float_down(round_down(x)); }
+
+/// A float one step above round_up(x), as float_below_rounded.
+inline float float_above_rounded(double x) { return next_float_up(round_up(x)); }
+
 }  // namespace subdivtrace::detail

@@ -60,10 +60,10 @@ ShellGrid ShellGrid::spanning(const Shell* shells, std::size_t count, const Vec3
     ShellGrid grid;
     if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return grid;  // nothing to span
     for (int a = 0; a < 3; ++a) {
-        grid.lo[a] = next_float_down(round_down(lo[a] - origin[a]));
+        grid.lo[a] = float_below_rounded(lo[a] - origin[a]);
         // k_last - 1 steps reach past the top: the last one is margin for rounding.
         const double extent = hi[a] - (origin[a] + static_cast<double>(grid.lo[a]));
-        grid.step[a] = next_float_up(round_up(extent / (k_last - 1)));
+        grid.step[a] = float_above_rounded(extent / (k_last - 1));
     }
     // expand()'s sums: a coordinate (three terms), and the slab's base and
     // step (three products each, then their difference), all below the

@@ -33,17 +33,15 @@ CompactShell CompactShell::from(const Shell& s, const Vec3& origin) {
     // Relative to a nearby origin, so float keeps the detail of a mesh far
     // from (0,0,0). One float step further out covers the double rounding of
     // the subtraction.
-    const auto down = [](double x) { return next_float_down(round_down(x)); };
-    const auto up = [](double x) { return next_float_up(round_up(x)); };
     CompactShell c;
     for (int a = 0; a < 3; ++a) {
-        c.lo[a] = down(s.lo[a] - origin[a]);
-        c.hi[a] = up(s.hi[a] - origin[a]);
+        c.lo[a] = float_below_rounded(s.lo[a] - origin[a]);
+        c.hi[a] = float_above_rounded(s.hi[a] - origin[a]);
         c.axis[a] = axis_bits(s.axis[a]);
     }
     const double offset = glm::dot(s.axis, origin);
-    c.slab_min = down(s.slab_min - offset);
-    c.slab_max = up(s.slab_max - offset);
+    c.slab_min = float_below_rounded(s.slab_min - offset);
+    c.slab_max = float_above_rounded(s.slab_max - offset);
     return c;
 }
 

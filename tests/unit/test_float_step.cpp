@@ -9,6 +9,8 @@
 
 #include "float_step.h"
 
+using subdivtrace::detail::float_above_rounded;
+using subdivtrace::detail::float_below_rounded;
 using subdivtrace::detail::next_float_down;
 using subdivtrace::detail::next_float_up;
 
@@ -50,4 +52,25 @@ TEST_CASE("float steps equal nextafter on random bit patterns", "[shells][float]
         if (!same(next_float_down(f), std::nextafter(f, -k_inf))) ++mismatches;
     }
     CHECK(mismatches == 0);
+}
+
+TEST_CASE("rounded bounds lie one float step beyond the double, on its side", "[shells][float]") {
+    // Against std::nextafter from the floats either side of x found by
+    // brute force: float_below_rounded(x) is one step below the largest
+    // float <= x, float_above_rounded(x) one above the least float >= x.
+    std::mt19937_64 rng(20261206);
+    std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
+    int wrong = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const double x = std::ldexp(mantissa(rng), static_cast<int>(rng() % 200) - 100);
+        float below = static_cast<float>(x);
+        while (static_cast<double>(below) > x) below = std::nextafter(below, -k_inf);
+        float above = static_cast<float>(x);
+        while (static_cast<double>(above) < x) above = std::nextafter(above, k_inf);
+        if (!same(float_below_rounded(x), std::nextafter(below, -k_inf))) ++wrong;
+        if (!same(float_above_rounded(x), std::nextafter(above, k_inf))) ++wrong;
+        if (!(static_cast<double>(float_below_rounded(x)) < x && static_cast<double>(float_above_rounded(x)) > x))
+            ++wrong;
+    }
+    CHECK(wrong == 0);
 }
