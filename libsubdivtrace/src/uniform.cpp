@@ -318,6 +318,17 @@ Mesh to_mesh(const SubdividedMesh& sub) {
     return mesh;
 }
 
+Mesh to_mesh(SubdividedMesh&& sub) {
+    Mesh mesh;
+    mesh.corner_normals = sub.corner_normals();
+    std::vector<Vec3>().swap(sub.vertex_normals);
+    std::vector<SubdividedMesh::SplitCorner>().swap(sub.split_corners);
+    mesh.positions = std::move(sub.positions);
+    mesh.triangles = std::move(sub.triangles);
+    mesh.corner_uvs = std::move(sub.corner_uvs);
+    return mesh;
+}
+
 Vec3 SubdividedMesh::corner_normal(std::size_t t, int c) const {
     const auto slot = static_cast<std::uint32_t>(3 * t + static_cast<std::size_t>(c));
     if (!split_corners.empty()) {

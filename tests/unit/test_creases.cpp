@@ -349,3 +349,28 @@ TEST_CASE("inside() of a refined faceted cube is the cube, every scheme", "[crea
         CHECK(wrong == 0);
     }
 }
+
+TEST_CASE("to_mesh of a temporary gives what the copying to_mesh gives", "[creases][uniform]") {
+    // A cube with faceted normals (corners whose normal is not their
+    // vertex's) and given UVs, two levels down: the moving conversion must
+    // hand over the same positions, triangles, UVs and corner normals, and
+    // each corner normal must be SubdividedMesh::corner_normal's.
+    Mesh cube = testmesh::faceted_cube();
+    for (std::size_t c = 0; c < 3 * cube.triangles.size(); ++c)
+        cube.corner_uvs.push_back(Vec2(0.1 * static_cast<double>(c % 7), 0.2 * static_cast<double>(c % 5)));
+    for (const SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
+        const SubdividedMesh sub = subdivide_uniform(cube, scheme, 2);
+        REQUIRE(!sub.split_corners.empty());
+        const Mesh copied = to_mesh(sub);
+        const Mesh moved = to_mesh(SubdividedMesh(sub));
+        CHECK(moved.positions == copied.positions);
+        CHECK(moved.triangles == copied.triangles);
+        CHECK(moved.corner_uvs == copied.corner_uvs);
+        CHECK(moved.corner_normals == copied.corner_normals);
+        REQUIRE(moved.corner_normals.size() == 3 * sub.triangles.size());
+        std::size_t wrong = 0;
+        for (std::size_t t = 0; t < sub.triangles.size(); ++t)
+            for (int c = 0; c < 3; ++c) wrong += moved.corner_normals[3 * t + c] != sub.corner_normal(t, c);
+        CHECK(wrong == 0);
+    }
+}

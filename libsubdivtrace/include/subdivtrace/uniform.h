@@ -70,5 +70,9 @@ void push_to_limit(SubdividedMesh& sub, SchemeKind scheme);
 
 /// Converts back to a plain Mesh (with the scheme's corner normals).
 Mesh to_mesh(const SubdividedMesh& sub);
+/// The same, taking the positions, triangles and UVs instead of copying
+/// them, and freeing the per-vertex normals once the corners have theirs:
+/// at a deep level the copies had been half of a conversion's peak memory.
+Mesh to_mesh(SubdividedMesh&& sub);
 
 }  // namespace subdivtrace
