@@ -1,5 +1,6 @@
 // `subdivtrace subdivide MESH -o OUT [--scheme S] [--levels K]`: uniform subdivision.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -24,6 +25,9 @@ const char* k_subdivide_help =
     "  --levels K         subdivision levels, 0..10 (1)\n"
     "  --limit            move vertices to the limit surface (Loop; what the tracer draws)\n";
 
+/// From this many output triangles on, the steps are announced as they start.
+constexpr double k_announce_triangles = 1.0e6;
+
 }  // namespace
 
 int run_subdivide(const Args& args) {
@@ -38,10 +42,18 @@ int run_subdivide(const Args& args) {
     const Mesh mesh = read_mesh(a.mesh, &warnings, a.weld);
     print_warnings(warnings);
 
+    // A deep level takes seconds to compute and as long again to write:
+    // say what is under way (the summary line comes at the end).
+    const double expected = static_cast<double>(mesh.triangles.size()) * std::pow(4.0, a.levels);
+    const bool announce = expected >= k_announce_triangles;
+    if (announce)
+        std::fprintf(stderr, "%s: subdividing to level %d (%.0f triangles)...\n", a.mesh.c_str(), a.levels,
+                     expected);
     const auto start = std::chrono::steady_clock::now();
     const Mesh result = to_mesh(subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels, a.limit));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (announce) std::fprintf(stderr, "%s: writing...\n", a.output.c_str());
     write_mesh(a.output, result);
     std::fprintf(stderr, "%s: %zu triangles -> %zu triangles (%s, %d level%s) in %.3f s -> %s\n",
                  a.mesh.c_str(), mesh.triangles.size(), result.triangles.size(),
