@@ -3,8 +3,14 @@
 // is compared against, and OpenMesh's LoopT and
 // ModifiedButterflyT on the same mesh (in process, no I/O, the mesh copied into
 // OpenMesh outside the timed region) as the peer. Counters: output triangles
-// per second, the bytes of the output arrays, and the process's peak resident
-// memory (VmHWM) after the run.
+// per second, the bytes of the output arrays, the process's peak resident
+// memory (VmHWM) after the run, and the page faults per subdivision
+// (faults/it). Each iteration's arrays are fresh memory as glibc gives freed
+// blocks back, and a fault costs about 10 us on the virtual machines we
+// measure on: run with MALLOC_TOP_PAD_=536870912
+// MALLOC_TRIM_THRESHOLD_=1073741824 to keep freed memory and time the
+// arithmetic alone (docs/benchmarks.md, "Page faults in uniform
+// subdivision").
 // OpenMesh's VectorT leaves default-constructed coordinates uninitialised on
 // purpose; GCC 12 then warns inside <vector>. It must precede every include.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -15,6 +21,8 @@
 #include <random>
 #include <string>
 #include <utility>
+
+#include <sys/resource.h>
 
 #include <benchmark/benchmark.h>
 #include <glm/geometric.hpp>
@@ -85,6 +93,13 @@ double peak_rss_mb() {
     return -1.0;
 }
 
+/// Minor page faults of this process so far.
+double minor_faults() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<double>(usage.ru_minflt);
+}
+
 void BM_uniform(benchmark::State& state) {
     const auto scheme = static_cast<SchemeKind>(state.range(0));
     const int levels = static_cast<int>(state.range(1));
@@ -92,8 +107,11 @@ void BM_uniform(benchmark::State& state) {
     state.SetLabel(std::string(scheme_name(scheme)) + (state.range(2) == 1 ? " bunny" : ""));
     std::size_t triangles = 0;
     double output_bytes = 0.0;
+    double faults = 0.0;
     for (auto _ : state) {
+        const double faults_before = minor_faults();
         SubdividedMesh sub = subdivide_uniform(mesh, scheme, levels);
+        faults += minor_faults() - faults_before;
         benchmark::DoNotOptimize(sub.positions.data());
         triangles = sub.triangles.size();
         output_bytes = static_cast<double>(
@@ -108,6 +126,7 @@ void BM_uniform(benchmark::State& state) {
         benchmark::Counter::kIsRate);
     state.counters["out_MB"] = output_bytes / (1024.0 * 1024.0);
     state.counters["peak_MB"] = peak_rss_mb();
+    state.counters["faults/it"] = faults / static_cast<double>(state.iterations());
 }
 
 void uniform_args(benchmark::internal::Benchmark* b) {
@@ -140,11 +159,14 @@ void BM_openmesh(benchmark::State& state) {
     state.SetLabel(std::string("openmesh ") + scheme_name(scheme) +
                    (state.range(2) == 1 ? " bunny" : ""));
     std::size_t triangles = 0;
+    double faults = 0.0;
     for (auto _ : state) {
         state.PauseTiming();
         OmMesh om = to_openmesh(base_mesh(state.range(2)));
         state.ResumeTiming();
+        const double faults_before = minor_faults();
         testmesh::openmesh_subdivide(om, scheme, levels);
+        faults += minor_faults() - faults_before;
         triangles = om.n_faces();
         benchmark::DoNotOptimize(triangles);
     }
@@ -152,6 +174,7 @@ void BM_openmesh(benchmark::State& state) {
     state.counters["tris/s"] = benchmark::Counter(
         static_cast<double>(triangles) * static_cast<double>(state.iterations()),
         benchmark::Counter::kIsRate);
+    state.counters["faults/it"] = faults / static_cast<double>(state.iterations());
 }
 
 void openmesh_args(benchmark::internal::Benchmark* b) {
