@@ -26,8 +26,8 @@ constexpr std::size_t k_huge_block_bytes = std::size_t{2} << 20;
 /// block's bytes (a huge page is allocated whole on its first write), but a
 /// level's per-vertex arrays are 0.3-2 MB: as operator new's they faulted
 /// a 4 kB page at a time, about 10 us each here, and were most of uniform
-/// subdivision's faults (docs/benchmarks.md, "Huge pages for mid-size
-/// arrays").
+/// subdivision's faults (docs/benchmarks.md, "Page faults in uniform
+/// subdivision").
 constexpr std::size_t k_own_mapping_bytes = std::size_t{256} << 10;
 
 /// `bytes` of memory aligned to 16 bytes: from k_own_mapping_bytes up a
