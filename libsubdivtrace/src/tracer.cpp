@@ -159,6 +159,19 @@ public:
                 }
             }
         }
+        /// The counters this slot holds (cache hits and misses are the hierarchy's).
+        TraceCounters snapshot() const {
+            TraceCounters c;
+            c.rays = rays.load(std::memory_order_relaxed);
+            c.nodes_visited = nodes_visited.load(std::memory_order_relaxed);
+            c.leaves_tested = leaves_tested.load(std::memory_order_relaxed);
+            c.hits = hits.load(std::memory_order_relaxed);
+            c.hits_at_max_level = hits_at_max_level.load(std::memory_order_relaxed);
+            c.deepest_level = deepest_level.load(std::memory_order_relaxed);
+            c.error_bound_px_sum = error_bound_px_sum.load(std::memory_order_relaxed);
+            c.error_bound_px_max = error_bound_px_max.load(std::memory_order_relaxed);
+            return c;
+        }
         template <class T>
         static void raise_to(std::atomic<T>& target, T value) {
             T seen = target.load(std::memory_order_relaxed);
@@ -180,14 +193,7 @@ public:
         TraceCounters sum;
         histogram.assign(k_max_level_cap + 1, 0);
         for (const Totals& t : totals) {
-            sum.rays += t.rays.load();
-            sum.nodes_visited += t.nodes_visited.load();
-            sum.leaves_tested += t.leaves_tested.load();
-            sum.hits += t.hits.load();
-            sum.hits_at_max_level += t.hits_at_max_level.load();
-            sum.deepest_level = std::max(sum.deepest_level, t.deepest_level.load());
-            sum.error_bound_px_sum += t.error_bound_px_sum.load();
-            sum.error_bound_px_max = std::max(sum.error_bound_px_max, t.error_bound_px_max.load());
+            sum.add(t.snapshot());
             for (std::size_t l = 0; l < histogram.size(); ++l) histogram[l] += t.level_histogram[l].load();
         }
         return sum;
@@ -639,15 +645,7 @@ void AdaptiveSurface::set_view(const View& view) {
 SurfaceStats AdaptiveSurface::stats() const {
     SurfaceStats s;
     std::vector<std::uint64_t> histogram;
-    const TraceCounters totals = impl_->summed_totals(histogram);
-    s.trace.rays = totals.rays;
-    s.trace.nodes_visited = totals.nodes_visited;
-    s.trace.leaves_tested = totals.leaves_tested;
-    s.trace.deepest_level = totals.deepest_level;
-    s.trace.hits = totals.hits;
-    s.trace.hits_at_max_level = totals.hits_at_max_level;
-    s.trace.error_bound_px_sum = totals.error_bound_px_sum;
-    s.trace.error_bound_px_max = totals.error_bound_px_max;
+    s.trace = impl_->summed_totals(histogram);
     const HierarchyCounters h = impl_->hierarchy.counters();
     s.trace.cache_hits = h.node_hits;
     s.trace.cache_misses = h.node_misses;
