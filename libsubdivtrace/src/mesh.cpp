@@ -9,6 +9,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "huge_pages.h"
 #include "orient.h"
 #include "weld.h"
 
@@ -162,8 +163,8 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
     std::vector<std::uint32_t> local_kept;
     std::vector<std::uint32_t>& kept = report ? report->kept_faces : local_kept;
     kept.clear();
-    kept.reserve(n_faces);
-    mesh.triangles.reserve(n_faces);
+    detail::reserve_huge(kept, n_faces);
+    detail::reserve_huge(mesh.triangles, n_faces);
     std::size_t dropped = 0, first_dropped = 0, collapsed = 0, first_collapsed = 0;
     for (std::size_t f = 0; f < n_faces; ++f) {
         const auto& v = arrays.face_indices[f];
@@ -184,8 +185,8 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
     const std::vector<std::uint32_t> reversed =
         mesh.triangles.empty() ? std::vector<std::uint32_t>{}
                                : orient_consistently(mesh, source, warnings);
-    if (has_normals) mesh.corner_normals.reserve(3 * kept.size());
-    if (has_uvs) mesh.corner_uvs.reserve(3 * kept.size());
+    if (has_normals) detail::reserve_huge(mesh.corner_normals, 3 * kept.size());
+    if (has_uvs) detail::reserve_huge(mesh.corner_uvs, 3 * kept.size());
     auto next_reversed = reversed.begin();
     for (std::size_t t = 0; t < kept.size(); ++t) {
         const std::size_t f = kept[t];

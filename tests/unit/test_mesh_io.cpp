@@ -277,6 +277,22 @@ TEST_CASE("mesh_io: OBJ v/vt/vn corners become corner uvs and normals", "[mesh_i
     CHECK_FALSE(m3.has_normals());
     REQUIRE(warnings.size() == 1);
     CHECK(warnings[0].find("normals ignored") != std::string::npos);
+
+    // The same with the normals first met after corners without them (the
+    // reader keeps normal references only from the first one on): the
+    // corners before count as missing, and one bad reference after them is
+    // still found.
+    warnings.clear();
+    const Mesh m4 = read_mesh(tmp.write("late.obj",
+                                        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\n"
+                                        "f 2 4 3\nf 1//1 2//1 3//1\n"),
+                              &warnings);
+    CHECK_FALSE(m4.has_normals());
+    REQUIRE(warnings.size() == 1);
+    CHECK(warnings[0].find("3 face corner(s) have no normal") != std::string::npos);
+    CHECK_THROWS_WITH(read_mesh(tmp.write("late_bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n"
+                                                          "f 1 2 3\nf 1//1 2//1 3//2\n")),
+                      Catch::Contains("line 6: normal index 2 out of range"));
 }
 
 TEST_CASE("mesh_io: extensions are case-insensitive, unknown ones are refused", "[mesh_io]") {

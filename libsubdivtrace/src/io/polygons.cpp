@@ -1,6 +1,7 @@
 // Polygons to a Mesh: fan triangulation, then mesh_from_arrays (readers.h).
 #include <algorithm>
 
+#include "huge_pages.h"
 #include "io/readers.h"
 
 namespace subdivtrace::io {
@@ -16,6 +17,13 @@ Mesh mesh_from_polygons(Polygons& in, const std::string& path,
     const bool has_t = !a.uvs.empty() && in.vt.size() == in.v.size();
     if (!has_n) a.normals.clear();
     if (!has_t) a.uvs.clear();
+    // Allocated once (huge_pages.h): grown by doubling, the index lists of
+    // a 100 MB export were copied about twice over.
+    std::size_t triangles = 0;
+    for (std::uint32_t k : in.sizes) triangles += k >= 3 ? k - 2 : 0;
+    detail::reserve_huge(a.face_indices, triangles);
+    if (has_n) detail::reserve_huge(a.normal_indices, triangles);
+    if (has_t) detail::reserve_huge(a.uv_indices, triangles);
     std::size_t polygons = 0, largest = 0, corner = 0;
     for (std::uint32_t k : in.sizes) {
         if (k > 3) {

@@ -3,9 +3,12 @@
 
 #include <cctype>
 #include <cstdint>
+#include <cstring>
+#include <string_view>
 
 #include "io/io_util.h"
 #include "io/text_cursor.h"
+#include "huge_pages.h"
 
 namespace subdivtrace::io {
 
@@ -40,6 +43,44 @@ bool parse_obj_ref(std::string_view w, std::int64_t out[3]) {
 }
 
 
+/// How many of each element an OBJ text holds, counted by the first word
+/// of each line (a face's corners by the words after `f`), so the reader's
+/// arrays are allocated once: grown by doubling, a 100 MB export copied
+/// each of them about twice and faulted every fresh page (huge_pages.h).
+struct ObjCounts {
+    std::size_t positions = 0, normals = 0, uvs = 0, faces = 0, corners = 0;
+};
+
+ObjCounts count_obj(std::string_view data) {
+    ObjCounts n;
+    const char* p = data.data();
+    const char* const end = p + data.size();
+    while (p < end) {
+        while (p < end && (*p == ' ' || *p == '\t')) ++p;
+        const char* line_end = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+        if (line_end == nullptr) line_end = end;
+        const std::size_t length = static_cast<std::size_t>(line_end - p);
+        const auto starts = [&](const char* word, std::size_t size) {
+            return length > size && std::memcmp(p, word, size) == 0 && (p[size] == ' ' || p[size] == '\t');
+        };
+        if (starts("v", 1)) ++n.positions;
+        else if (starts("vn", 2)) ++n.normals;
+        else if (starts("vt", 2)) ++n.uvs;
+        else if (starts("f", 1)) {
+            ++n.faces;
+            // Corners: words after the keyword.
+            bool in_word = false;
+            for (const char* q = p + 1; q < line_end; ++q) {
+                const bool space = *q == ' ' || *q == '\t' || *q == '\r';
+                if (!space && !in_word) ++n.corners;
+                in_word = !space;
+            }
+        }
+        p = line_end + 1;
+    }
+    return n;
+}
+
 }  // namespace
 
 Polygons read_obj(const std::string& path, const std::string& data,
@@ -48,7 +89,21 @@ Polygons read_obj(const std::string& path, const std::string& data,
     Polygons m;
     std::vector<std::size_t> poly_line;  // for messages about indices
     std::size_t corners_without_vt = 0, corners_without_vn = 0, ignored_elements = 0;
+    // Texture and normal references only once a corner has one (most
+    // exports have both or neither): -1 for the corners before it.
     std::vector<std::int64_t> vt, vn;
+    bool any_vt = false, any_vn = false;
+    {
+        const ObjCounts n = count_obj(data);
+        detail::reserve_huge(m.positions, n.positions);
+        detail::reserve_huge(m.normals, n.normals);
+        detail::reserve_huge(m.uvs, n.uvs);
+        detail::reserve_huge(m.sizes, n.faces);
+        detail::reserve_huge(poly_line, n.faces);
+        detail::reserve_huge(m.v, n.corners);
+        if (n.uvs > 0) detail::reserve_huge(vt, n.corners);
+        if (n.normals > 0) detail::reserve_huge(vn, n.corners);
+    }
 
     // Resolve an OBJ index (1-based, or negative = relative to the count so far).
     auto resolve = [&](std::int64_t idx, std::size_t count, const char* what) -> std::int64_t {
@@ -88,8 +143,16 @@ Polygons read_obj(const std::string& path, const std::string& data,
                     fail(path, c.where() + "bad face corner " + quoted(w) +
                                    " (expected v, v/vt, v//vn or v/vt/vn)");
                 m.v.push_back(resolve(ref[0], m.positions.size(), "vertex"));
-                vt.push_back(ref[1] ? resolve(ref[1], m.uvs.size(), "texture") : -1);
-                vn.push_back(ref[2] ? resolve(ref[2], m.normals.size(), "normal") : -1);
+                if (ref[1] && !any_vt) {
+                    any_vt = true;
+                    vt.assign(m.v.size() - 1, -1);
+                }
+                if (ref[2] && !any_vn) {
+                    any_vn = true;
+                    vn.assign(m.v.size() - 1, -1);
+                }
+                if (any_vt) vt.push_back(ref[1] ? resolve(ref[1], m.uvs.size(), "texture") : -1);
+                if (any_vn) vn.push_back(ref[2] ? resolve(ref[2], m.normals.size(), "normal") : -1);
                 with_vt += ref[1] != 0;
                 with_vn += ref[2] != 0;
                 ++k;
@@ -119,8 +182,8 @@ Polygons read_obj(const std::string& path, const std::string& data,
                                    std::to_string(count) + " defined)");
             };
             check(m.v[corner], m.positions.size(), "vertex");
-            if (vt[corner] >= 0) check(vt[corner], m.uvs.size(), "texture");
-            if (vn[corner] >= 0) check(vn[corner], m.normals.size(), "normal");
+            if (any_vt && vt[corner] >= 0) check(vt[corner], m.uvs.size(), "texture");
+            if (any_vn && vn[corner] >= 0) check(vn[corner], m.normals.size(), "normal");
         }
     }
     if (m.sizes.empty())
