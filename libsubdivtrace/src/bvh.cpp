@@ -8,6 +8,7 @@
 #include <glm/common.hpp>
 
 #include "float_step.h"
+#include "huge_pages.h"
 #include "parallel.h"
 
 namespace subdivtrace::detail {
@@ -193,7 +194,7 @@ struct Builder {
 
 void Bvh::build(std::vector<Vec3> lo, std::vector<Vec3> hi, int max_leaf_size) {
     nodes_.clear();
-    items_.resize(lo.size());
+    resize_huge(items_, lo.size());
     for (std::uint32_t k = 0; k < items_.size(); ++k) items_[k] = k;
     if (lo.empty()) return;
     // Boxes are stored relative to the middle of all of them, so single
@@ -212,10 +213,11 @@ void Bvh::build(std::vector<Vec3> lo, std::vector<Vec3> hi, int max_leaf_size) {
     const std::uint32_t n = static_cast<std::uint32_t>(lo.size());
     if (n < k_parallel_items || std::thread::hardware_concurrency() < 2) {
         std::vector<BvhNode> nodes;
-        nodes.reserve(2 * lo.size());
+        reserve_huge(nodes, 2 * lo.size());
         Builder{lo, hi, nodes, items_, origin_, max_leaf_size}.run();
         lo = std::vector<Vec3>();
         hi = std::vector<Vec3>();
+        reserve_huge(nodes_, nodes.size());
         nodes_.assign(nodes.begin(), nodes.end());
         return;
     }
@@ -236,8 +238,8 @@ void Bvh::build(std::vector<Vec3> lo, std::vector<Vec3> hi, int max_leaf_size) {
         return;
     }
     std::vector<BvhNode> left(1), right(1);
-    left.reserve(2 * std::size_t{split});
-    right.reserve(2 * std::size_t{n - split});
+    reserve_huge(left, 2 * std::size_t{split});
+    reserve_huge(right, 2 * std::size_t{n - split});
     struct NoState {};
     run_in_parallel<NoState>(2, [&](std::size_t half, NoState&) {
         if (half == 0)
@@ -253,7 +255,7 @@ void Bvh::build(std::vector<Vec3> lo, std::vector<Vec3> hi, int max_leaf_size) {
     const auto right_index = [&](std::uint32_t i) {
         return i == 0 ? 2u : 2u + static_cast<std::uint32_t>(left.size()) - 1u + i;
     };
-    nodes_.resize(1 + left.size() + right.size());
+    resize_huge(nodes_, 1 + left.size() + right.size());
     nodes_[0] = root[0];
     nodes_[0].first = 1;
     nodes_[0].count = 0;

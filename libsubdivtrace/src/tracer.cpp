@@ -16,6 +16,7 @@
 
 #include "bvh.h"
 #include "crossings.h"
+#include "huge_pages.h"
 #include "ray_triangle.h"
 #include "subdivtrace/hierarchy.h"
 
@@ -112,8 +113,8 @@ public:
         options.cache = hierarchy.cache();
         mesh.corner_normals = std::vector<Vec3>();  // read by the hierarchy's construction only
         std::vector<Vec3> lo, hi;
-        lo.reserve(mesh.triangles.size());
-        hi.reserve(mesh.triangles.size());
+        detail::reserve_huge(lo, mesh.triangles.size());
+        detail::reserve_huge(hi, mesh.triangles.size());
         for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
             const Shell shell = hierarchy.node(Hierarchy::root(f), Hierarchy::Part::geometry).shell;
             lo.push_back(shell.lo);

@@ -38,6 +38,11 @@ Mesh mesh_from_polygons(Polygons& in, const std::string& path,
         }
         corner += k;
     }
+    // The corners are all in the triangles now: their lists go before the
+    // mesh is built (as int64s, 24 bytes a corner).
+    std::vector<std::int64_t>().swap(in.v);
+    std::vector<std::int64_t>().swap(in.vn);
+    std::vector<std::int64_t>().swap(in.vt);
     if (polygons > 0 && warnings)
         warnings->push_back(path + ": fan-triangulated " + std::to_string(polygons) +
                             " polygon(s) with up to " + std::to_string(largest) + " corners into " +

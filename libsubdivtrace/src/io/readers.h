@@ -40,7 +40,8 @@ Polygons read_polygons(const std::string& ext, const std::string& path, const st
 
 /// Fan-triangulates (one warning counting the polygons) and hands over to
 /// mesh_from_arrays, which checks ranges and values, welds coincident vertices
-/// and drops triangles that repeat a vertex.
+/// and drops triangles that repeat a vertex. Consumes `in`: its arrays are
+/// moved into the mesh or freed as soon as they are read.
 Mesh mesh_from_polygons(Polygons& in, const std::string& path,
                         std::vector<std::string>* warnings, const WeldOptions& weld,
                         WeldReport* report);
