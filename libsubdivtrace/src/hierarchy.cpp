@@ -397,7 +397,7 @@ const std::shared_ptr<TileCache>& Hierarchy::cache() const { return impl_->cache
 NodeRecord Hierarchy::node(const NodeId& id, Part part) const {
     const bool normals = part == Part::all;
     if (id.level == 0) return impl_->roots.record(id.face, normals);
-    return impl_->front_tile(detail::tile_root_of(id))->record(id, normals);
+    return impl_->front_tile(detail::tile_root_of(id))->record(id, normals, part != Part::corners);
 }
 
 void Hierarchy::child_shells(const NodeId& id, std::array<Shell, 4>& out) const {

@@ -378,7 +378,7 @@ std::pair<int, std::size_t> Tile::edge_slot(const NodeId& id, const GridPoint& p
 }
 
 
-NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id, bool normals) const {
+NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id, bool normals, bool shell) const {
     NodeRecord rec;
     const auto grid = node_corner_grid(id);
     for (int c = 0; c < 3; ++c) {
@@ -388,7 +388,7 @@ NodeRecord Tile::assemble(const TileLevel& level, const NodeId& id, bool normals
         const auto [direction, slot] = edge_slot(id, grid[c], grid[(c + 1) % 3]);
         rec.edge_normal[c] = glm::vec3(level.points()[slot].edge_normal[direction].vector());
     }
-    rec.shell = level.shell(index_in_level(id), origin());
+    if (shell) rec.shell = level.shell(index_in_level(id), origin());
     return rec;
 }
 

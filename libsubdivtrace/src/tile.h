@@ -265,11 +265,12 @@ public:
 
     /// The record of descendant `id` (root.level < id.level <= root.level + depth),
     /// building its level first if needed; without `normals` (Hierarchy::Part::
-    /// geometry), its shading and edge-midpoint normals stay zero. Thread-safe.
-    NodeRecord record(const NodeId& id, bool normals = true) const {
+    /// geometry), its shading and edge-midpoint normals stay zero; without
+    /// `shell` (Hierarchy::Part::corners), its shell stays empty. Thread-safe.
+    NodeRecord record(const NodeId& id, bool normals = true, bool shell = true) const {
         const int j = id.level - root_.level;
         if (ready_.load(std::memory_order_acquire) < j) ensure_level(j);
-        return assemble(levels_[j - 1], id, normals);
+        return assemble(levels_[j - 1], id, normals, shell);
     }
 
     /// The shells alone of those four children (what a ray tests before it
@@ -330,8 +331,9 @@ private:
     std::pair<int, std::size_t> edge_slot(const NodeId& id, int e) const;
     std::pair<int, std::size_t> edge_slot(const NodeId& id, const GridPoint& p,
                                           const GridPoint& q) const;
-    /// Without `normals`, the shading and edge-midpoint normals stay zero.
-    NodeRecord assemble(const TileLevel& level, const NodeId& id, bool normals) const;
+    /// Without `normals`, the shading and edge-midpoint normals stay zero;
+    /// without `shell`, the shell stays empty.
+    NodeRecord assemble(const TileLevel& level, const NodeId& id, bool normals, bool shell) const;
     /// Level j's records from `q`, level j - 1 with its border; leaves
     /// level j's band in `q`, finished.
     void build_level(int j, Patch& q);

@@ -525,14 +525,17 @@ struct Walk {
             return tx < ty;
         });
         for (int k = 0; k < 4; ++k) {
-            Child& ch = children[order[k]];
+            const int c_entered = order[k];
+            Child& ch = children[c_entered];
             if (!ch.hit) break;
             if (mode == WalkMode::nearest && ch.t_entry > t_max) break;
             const bool snapped = !ch.drawn[0].alive || !ch.drawn[1].alive || !ch.drawn[2].alive;
             inherited.snap_depth = snapped ? snap_depth : 0.0;
             // Its own corners (the alive ones: every other is a parent's
-            // dead corner or a snapped one) come from its record.
-            const NodeRecord child_rec = s.hierarchy.node(ch.id, Hierarchy::Part::geometry);
+            // dead corner or a snapped one) come from its record; its shell
+            // is the one tested above (the same bits), not decoded again.
+            NodeRecord child_rec = s.hierarchy.node(ch.id, Hierarchy::Part::corners);
+            child_rec.shell = child_shells[c_entered];
             for (int c = 0; c < 3; ++c)
                 if (ch.drawn[c].alive)
                     ch.drawn[c] = {child_rec.draw_position[c], ch.id, c, grid_domain(ch.id, c), true};
