@@ -1,6 +1,7 @@
 // PLY reader (readers.h): ASCII, binary little and big endian.
 #include "io/readers.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -10,6 +11,7 @@
 
 #include "io/io_util.h"
 #include "io/text_cursor.h"
+#include "huge_pages.h"
 
 namespace subdivtrace::io {
 
@@ -275,8 +277,19 @@ Polygons read_ply(const std::string& path, const std::string& data,
     std::vector<double> list_uv;
     for (const PlyElement& e : elements) {
         const bool is_vertex = &e == vertex, is_face = &e == face;
+        // Room for what the header announces (checked against the file's
+        // size above), allocated once on huge pages (huge_pages.h); a face
+        // list is reserved for triangles.
+        const auto count = static_cast<std::size_t>(e.count);
         if (is_vertex) {
-            m.positions.reserve(static_cast<std::size_t>(e.count));
+            detail::reserve_huge(m.positions, count);
+            if (has_normals) detail::reserve_huge(m.normals, count);
+            if (has_vertex_uv) detail::reserve_huge(m.uvs, count);
+        }
+        if (is_face) {
+            detail::reserve_huge(m.sizes, count);
+            // Each corner takes a byte of the file at least.
+            detail::reserve_huge(m.v, std::min(3 * count, static_cast<std::size_t>(in.remaining() + 1)));
         }
         // An element without properties holds no bytes, whatever its count:
         // nothing to read, and counting to 4e8 would hang (found by fuzzing).
