@@ -50,7 +50,7 @@ int run_subdivide(const Args& args) {
         std::fprintf(stderr, "%s: subdividing to level %d (%.0f triangles)...\n", a.mesh.c_str(), a.levels,
                      expected);
     const auto start = std::chrono::steady_clock::now();
-    const Mesh result = to_mesh(subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels, a.limit));
+    const SubdividedMesh result = subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels, a.limit);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (announce) std::fprintf(stderr, "%s: writing...\n", a.output.c_str());

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -29,6 +30,7 @@
 #include "subdivtrace/mesh.h"
 #include "subdivtrace/mesh_io.h"
 #include "subdivtrace/mesh_report.h"
+#include "subdivtrace/uniform.h"
 #include "unit/test_meshes.h"
 
 namespace fs = std::filesystem;
@@ -174,6 +176,12 @@ void require_error(const std::string& path, const std::string& reason) {
 }
 
 double float_round(double x) { return static_cast<double>(static_cast<float>(x)); }
+
+/// The bytes of the file at `path`.
+std::string file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
 
 using OMesh = OpenMesh::PolyMesh_ArrayKernelT<testmesh::DTraits>;
 
@@ -479,6 +487,45 @@ TEST_CASE("mesh_io: write then read gives the same mesh", "[mesh_io]") {
             for (int k = 0; k < 3; ++k)
                 CHECK(stl.positions[stl.triangles[t][c]][k] ==
                       float_round(plain.positions[plain.triangles[t][c]][k]));
+}
+
+TEST_CASE("mesh_io: a subdivided mesh writes as its Mesh copy does, byte for byte", "[mesh_io]") {
+    // write_mesh(SubdividedMesh) reads the normals in place (per vertex, and
+    // the corners that differ); to_mesh expands them to one per corner. The
+    // files must be the same: smooth, creased (split corners), with given
+    // normals and with UVs, for every scheme and format.
+    TempDir tmp;
+    const Mesh with_uvs = mesh_from_arrays(testmesh::patch_split_sphere(3, true), "sphere");
+    REQUIRE(with_uvs.has_uvs());
+    const std::vector<std::pair<const char*, Mesh>> meshes = {
+        {"icosphere", testmesh::icosphere(1)}, {"cube", testmesh::faceted_cube()},
+        {"cylinder", testmesh::split_normal_cylinder(6, 1.0, 1.0)}, {"open", testmesh::open_grid(3)},
+        {"uvs", with_uvs}};
+    std::size_t compared = 0, with_split_corners = 0;
+    for (const auto& [name, mesh] : meshes)
+        for (const SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly})
+            for (int levels = 0; levels <= 2; ++levels) {
+                const SubdividedMesh sub = subdivide_uniform(mesh, scheme, levels);
+                with_split_corners += sub.split_corners.empty() ? 0 : 1;
+                const Mesh copy = to_mesh(sub);
+                for (const char* ext : {"obj", "ply", "off", "stl"}) {
+                    const std::string a = tmp.path(std::string("copy.") + ext);
+                    const std::string b = tmp.path(std::string("direct.") + ext);
+                    write_mesh(a, copy);
+                    write_mesh(b, sub);
+                    INFO(name << " " << scheme_name(scheme) << " level " << levels << " " << ext);
+                    CHECK(file_bytes(a) == file_bytes(b));
+                    ++compared;
+                }
+            }
+    CHECK(compared == 5 * 3 * 3 * 4);
+    CHECK(with_split_corners > 0);  // the creased meshes exercise the split corners
+
+    // Values a subdivision can overflow to are refused, naming the file.
+    SubdividedMesh bad = subdivide_uniform(testmesh::icosphere(0), SchemeKind::loop, 1);
+    bad.positions[3].y = std::numeric_limits<double>::infinity();
+    CHECK_THROWS_WITH(write_mesh(tmp.path("bad.ply"), bad), Catch::Contains("bad.ply: vertex 3 is not finite"));
+    CHECK_FALSE(fs::exists(tmp.path("bad.ply")));
 }
 
 TEST_CASE("mesh_io: a failed write throws and leaves no partial output", "[mesh_io]") {

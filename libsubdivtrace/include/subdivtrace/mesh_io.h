@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "subdivtrace/mesh.h"
+#include "subdivtrace/uniform.h"
 
 namespace subdivtrace {
 
@@ -32,6 +33,10 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nul
 /// renamed, so a failure leaves no partial output. Throws MeshError naming
 /// `path` on an invalid mesh, an unknown extension or a write error.
 void write_mesh(const std::string& path, const Mesh& mesh);
+/// The same for a subdivided mesh, as write_mesh(path, to_mesh(sub)) writes
+/// it, reading its normals in place (one per vertex, plus the corners that
+/// differ) instead of a copy with one per corner.
+void write_mesh(const std::string& path, const SubdividedMesh& sub);
 
 /// POV-Ray 3.7 text `#declare IDENT = mesh2 { ... }`: vertex_vectors,
 /// normal_vectors and uv_vectors (only if the mesh has them, deduplicated),

@@ -3,12 +3,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
 #include "io/io_util.h"
 #include "subdivtrace/mesh_io.h"
+#include "subdivtrace/uniform.h"
 
 namespace subdivtrace {
 
@@ -54,7 +56,29 @@ private:
     std::vector<unsigned char> buffer_;
 };
 
-void write_obj(std::FILE* f, const Mesh& mesh) {
+/// What the writers read of a mesh: a Mesh, or a SubdividedMesh read in
+/// place. Its normals are one per vertex plus the corners that differ, and
+/// expanding them to one per corner first (to_mesh) had been two thirds of
+/// `subdivtrace subdivide`'s peak at deep levels (1.5 GB of 2.2 GB at level
+/// 6 of a 5k-triangle mesh).
+struct MeshOut {
+    const std::vector<Vec3>& positions;
+    const std::vector<Triangle>& triangles;
+    const std::vector<Vec2>& corner_uvs;
+    const Mesh* mesh = nullptr;
+    const SubdividedMesh* sub = nullptr;
+
+    static MeshOut of(const Mesh& m) { return {m.positions, m.triangles, m.corner_uvs, &m, nullptr}; }
+    static MeshOut of(const SubdividedMesh& s) { return {s.positions, s.triangles, s.corner_uvs, nullptr, &s}; }
+    bool has_normals() const { return mesh ? mesh->has_normals() : !sub->vertex_normals.empty(); }
+    bool has_uvs() const { return !corner_uvs.empty(); }
+    /// The normal at corner slot 3t + c.
+    Vec3 normal(std::size_t slot) const {
+        return mesh ? mesh->corner_normals[slot] : sub->corner_normal(slot / 3, static_cast<int>(slot % 3));
+    }
+};
+
+void write_obj(std::FILE* f, const MeshOut& mesh) {
     std::fprintf(f, "# subdivtrace: %zu vertices, %zu triangles\n", mesh.positions.size(),
                  mesh.triangles.size());
     for (const Vec3& p : mesh.positions) std::fprintf(f, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
@@ -62,7 +86,8 @@ void write_obj(std::FILE* f, const Mesh& mesh) {
     Dedup<Vec3, 3> normals;
     std::vector<std::uint32_t> vt, vn;
     for (const Vec2& t : mesh.corner_uvs) vt.push_back(uvs.add(t));
-    for (const Vec3& n : mesh.corner_normals) vn.push_back(normals.add(n));
+    if (mesh.has_normals())
+        for (std::size_t c = 0; c < 3 * mesh.triangles.size(); ++c) vn.push_back(normals.add(mesh.normal(c)));
     for (const Vec2& t : uvs.values) std::fprintf(f, "vt %.17g %.17g\n", t.x, t.y);
     for (const Vec3& n : normals.values) std::fprintf(f, "vn %.17g %.17g %.17g\n", n.x, n.y, n.z);
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -77,13 +102,13 @@ void write_obj(std::FILE* f, const Mesh& mesh) {
     }
 }
 
-void write_off(std::FILE* f, const Mesh& mesh) {
+void write_off(std::FILE* f, const MeshOut& mesh) {
     std::fprintf(f, "OFF\n%zu %zu 0\n", mesh.positions.size(), mesh.triangles.size());
     for (const Vec3& p : mesh.positions) std::fprintf(f, "%.17g %.17g %.17g\n", p.x, p.y, p.z);
     for (const Triangle& t : mesh.triangles) std::fprintf(f, "3 %u %u %u\n", t[0], t[1], t[2]);
 }
 
-void write_ply(std::FILE* f, const Mesh& mesh) {
+void write_ply(std::FILE* f, const MeshOut& mesh) {
     // Per-vertex attributes: a corner value if all of a vertex's corners agree,
     // else (normals only) their normalised average.
     const std::size_t nv = mesh.positions.size();
@@ -95,8 +120,9 @@ void write_ply(std::FILE* f, const Mesh& mesh) {
             const std::uint32_t v = mesh.triangles[t][k];
             const std::size_t c = 3 * t + k;
             if (mesh.has_normals()) {
-                if (seen[v] && normals[v] != mesh.corner_normals[c]) normal_agree[v] = 0;
-                if (!seen[v]) normals[v] = mesh.corner_normals[c];
+                const Vec3 n = mesh.normal(c);
+                if (seen[v] && normals[v] != n) normal_agree[v] = 0;
+                if (!seen[v]) normals[v] = n;
             }
             if (mesh.has_uvs()) {
                 if (seen[v] && uvs[v] != mesh.corner_uvs[c]) uv_agree[v] = 0;
@@ -110,8 +136,8 @@ void write_ply(std::FILE* f, const Mesh& mesh) {
         // Averages only where a vertex's corners disagree (creases): a
         // smooth mesh needs no second array of vertex normals.
         std::vector<Vec3> sum(nv, Vec3(0.0));
-        for (std::size_t c = 0; c < mesh.corner_normals.size(); ++c)
-            sum[mesh.triangles[c / 3][c % 3]] += mesh.corner_normals[c];
+        for (std::size_t c = 0; c < 3 * mesh.triangles.size(); ++c)
+            sum[mesh.triangles[c / 3][c % 3]] += mesh.normal(c);
         for (std::size_t v = 0; v < nv; ++v)
             if (!normal_agree[v]) {
                 const double len = glm::length(sum[v]);
@@ -144,7 +170,7 @@ void write_ply(std::FILE* f, const Mesh& mesh) {
     }
 }
 
-void write_stl(std::FILE* f, const Mesh& mesh) {
+void write_stl(std::FILE* f, const MeshOut& mesh) {
     char header[80] = {};
     std::snprintf(header, sizeof header, "subdivtrace binary STL");
     BinaryOut out(f);
@@ -162,13 +188,8 @@ void write_stl(std::FILE* f, const Mesh& mesh) {
     }
 }
 
-}  // namespace
-
-void write_mesh(const std::string& path, const Mesh& mesh) {
-    const std::string ext = io::extension_of(path);
-    if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
-        io::fail(path, "cannot write format '" + ext + "' (expected .obj, .off, .ply or .stl)");
-    validate_mesh(mesh, path);
+/// Writes `mesh` (validated by the caller) in the format of the extension.
+void write_checked(const std::string& path, const std::string& ext, const MeshOut& mesh) {
     io::write_atomically(path, [&](std::FILE* f) {
         if (ext == "obj")
             write_obj(f, mesh);
@@ -179,6 +200,41 @@ void write_mesh(const std::string& path, const Mesh& mesh) {
         else
             write_stl(f, mesh);
     });
+}
+
+/// The extension of `path` if a writer has it, else fails naming `path`.
+std::string writable_extension(const std::string& path) {
+    const std::string ext = io::extension_of(path);
+    if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
+        io::fail(path, "cannot write format '" + ext + "' (expected .obj, .off, .ply or .stl)");
+    return ext;
+}
+
+}  // namespace
+
+void write_mesh(const std::string& path, const Mesh& mesh) {
+    const std::string ext = writable_extension(path);
+    validate_mesh(mesh, path);
+    write_checked(path, ext, MeshOut::of(mesh));
+}
+
+void write_mesh(const std::string& path, const SubdividedMesh& sub) {
+    const std::string ext = writable_extension(path);
+    // Its triangles come from the subdivision and are valid; its values are
+    // checked as a Mesh's would be (a coordinate near the largest double can
+    // overflow as it is subdivided).
+    if (sub.triangles.empty()) io::fail(path, "no faces");
+    const auto check = [&](const std::vector<Vec3>& values, const char* what) {
+        for (std::size_t i = 0; i < values.size(); ++i)
+            if (!std::isfinite(values[i].x) || !std::isfinite(values[i].y) || !std::isfinite(values[i].z))
+                io::fail(path, std::string(what) + " " + std::to_string(i) + " is not finite");
+    };
+    check(sub.positions, "vertex");
+    check(sub.vertex_normals, "vertex normal");
+    for (const SubdividedMesh::SplitCorner& s : sub.split_corners)
+        if (!std::isfinite(s.normal.x) || !std::isfinite(s.normal.y) || !std::isfinite(s.normal.z))
+            io::fail(path, "corner normal " + std::to_string(s.slot) + " is not finite");
+    write_checked(path, ext, MeshOut::of(sub));
 }
 
 }  // namespace subdivtrace
