@@ -52,16 +52,22 @@ int run_export_mesh2(const Args& args) {
     const std::size_t base = mesh.triangles.size();
 
     const auto start = std::chrono::steady_clock::now();
-    if (a.levels > 0 || a.limit) {
-        mesh = to_mesh(subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels, a.limit));
-    }
     const std::string ident = a.name.empty() ? pov_identifier(file_stem(a.mesh)) : a.name;
-    write_mesh2(a.output, mesh, ident);
+    std::size_t written = base;
+    if (a.levels > 0 || a.limit) {
+        // Written in place: its normals stay per vertex (write_mesh2's overload).
+        const SubdividedMesh sub = subdivide_or_explain(mesh, a.mesh, a.scheme, a.levels, a.limit);
+        mesh = Mesh();
+        written = sub.triangles.size();
+        write_mesh2(a.output, sub, ident);
+    } else {
+        write_mesh2(a.output, mesh, ident);
+    }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::fprintf(stderr,
                  "%s: %zu triangles -> %zu triangles (%s, %d level%s) in %.3f s -> %s as %s\n",
-                 a.mesh.c_str(), base, mesh.triangles.size(), scheme_name(a.scheme), a.levels,
+                 a.mesh.c_str(), base, written, scheme_name(a.scheme), a.levels,
                  a.levels == 1 ? "" : "s", seconds, a.output.c_str(), ident.c_str());
     return 0;
 }

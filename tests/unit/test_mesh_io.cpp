@@ -490,7 +490,7 @@ TEST_CASE("mesh_io: write then read gives the same mesh", "[mesh_io]") {
 }
 
 TEST_CASE("mesh_io: a subdivided mesh writes as its Mesh copy does, byte for byte", "[mesh_io]") {
-    // write_mesh(SubdividedMesh) reads the normals in place (per vertex, and
+    // write_mesh(SubdividedMesh) and write_mesh2 read the normals in place (per vertex, and
     // the corners that differ); to_mesh expands them to one per corner. The
     // files must be the same: smooth, creased (split corners), with given
     // normals and with UVs, for every scheme and format.
@@ -517,8 +517,13 @@ TEST_CASE("mesh_io: a subdivided mesh writes as its Mesh copy does, byte for byt
                     CHECK(file_bytes(a) == file_bytes(b));
                     ++compared;
                 }
+                // mesh2: streamed from the subdivided mesh, the text mesh2_text builds.
+                write_mesh2(tmp.path("direct.inc"), sub, "M");
+                INFO(name << " " << scheme_name(scheme) << " level " << levels << " mesh2");
+                CHECK(file_bytes(tmp.path("direct.inc")) == mesh2_text(copy, "M"));
+                ++compared;
             }
-    CHECK(compared == 5 * 3 * 3 * 4);
+    CHECK(compared == 5 * 3 * 3 * 5);
     CHECK(with_split_corners > 0);  // the creased meshes exercise the split corners
 
     // Values a subdivision can overflow to are refused, naming the file.

@@ -44,8 +44,12 @@ void write_mesh(const std::string& path, const SubdividedMesh& sub);
 /// `ident` must satisfy is_pov_identifier (else std::invalid_argument).
 std::string mesh2_text(const Mesh& mesh, const std::string& ident);
 
-/// Writes mesh2_text to `path` (temporary file + rename, like write_mesh).
+/// Writes mesh2_text to `path` (temporary file + rename, like write_mesh),
+/// streamed through a buffer rather than built in memory first.
 void write_mesh2(const std::string& path, const Mesh& mesh, const std::string& ident);
+/// The same for a subdivided mesh, as write_mesh2(path, to_mesh(sub), ident)
+/// writes it, its normals read in place (write_mesh's overload).
+void write_mesh2(const std::string& path, const SubdividedMesh& sub, const std::string& ident);
 
 /// True if `text` is usable as a POV-Ray identifier: a letter, then letters,
 /// digits or underscores, at most 40 characters. (Reserved words are all

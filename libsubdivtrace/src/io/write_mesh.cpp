@@ -9,14 +9,34 @@
 #include <glm/geometric.hpp>
 
 #include "io/io_util.h"
+#include "io/mesh_out.h"
 #include "subdivtrace/mesh_io.h"
 #include "subdivtrace/uniform.h"
 
 namespace subdivtrace {
 
+namespace io {
+
+void validate_subdivided(const SubdividedMesh& sub, const std::string& path) {
+    if (sub.triangles.empty()) fail(path, "no faces");
+    const auto check = [&](const std::vector<Vec3>& values, const char* what) {
+        for (std::size_t i = 0; i < values.size(); ++i)
+            if (!std::isfinite(values[i].x) || !std::isfinite(values[i].y) || !std::isfinite(values[i].z))
+                fail(path, std::string(what) + " " + std::to_string(i) + " is not finite");
+    };
+    check(sub.positions, "vertex");
+    check(sub.vertex_normals, "vertex normal");
+    for (const SubdividedMesh::SplitCorner& s : sub.split_corners)
+        if (!std::isfinite(s.normal.x) || !std::isfinite(s.normal.y) || !std::isfinite(s.normal.z))
+            fail(path, "corner normal " + std::to_string(s.slot) + " is not finite");
+}
+
+}  // namespace io
+
 namespace {
 
 using io::Dedup;
+using io::MeshOut;
 
 /// Little-endian binary values out through a buffer of its own: one
 /// fwrite per value (8 bytes) had held a PLY of 10 M vertices to about
@@ -54,28 +74,6 @@ private:
     static constexpr std::size_t k_capacity = std::size_t{1} << 20;
     std::FILE* f_;
     std::vector<unsigned char> buffer_;
-};
-
-/// What the writers read of a mesh: a Mesh, or a SubdividedMesh read in
-/// place. Its normals are one per vertex plus the corners that differ, and
-/// expanding them to one per corner first (to_mesh) had been two thirds of
-/// `subdivtrace subdivide`'s peak at deep levels (1.5 GB of 2.2 GB at level
-/// 6 of a 5k-triangle mesh).
-struct MeshOut {
-    const std::vector<Vec3>& positions;
-    const std::vector<Triangle>& triangles;
-    const std::vector<Vec2>& corner_uvs;
-    const Mesh* mesh = nullptr;
-    const SubdividedMesh* sub = nullptr;
-
-    static MeshOut of(const Mesh& m) { return {m.positions, m.triangles, m.corner_uvs, &m, nullptr}; }
-    static MeshOut of(const SubdividedMesh& s) { return {s.positions, s.triangles, s.corner_uvs, nullptr, &s}; }
-    bool has_normals() const { return mesh ? mesh->has_normals() : !sub->vertex_normals.empty(); }
-    bool has_uvs() const { return !corner_uvs.empty(); }
-    /// The normal at corner slot 3t + c.
-    Vec3 normal(std::size_t slot) const {
-        return mesh ? mesh->corner_normals[slot] : sub->corner_normal(slot / 3, static_cast<int>(slot % 3));
-    }
 };
 
 void write_obj(std::FILE* f, const MeshOut& mesh) {
@@ -220,20 +218,7 @@ void write_mesh(const std::string& path, const Mesh& mesh) {
 
 void write_mesh(const std::string& path, const SubdividedMesh& sub) {
     const std::string ext = writable_extension(path);
-    // Its triangles come from the subdivision and are valid; its values are
-    // checked as a Mesh's would be (a coordinate near the largest double can
-    // overflow as it is subdivided).
-    if (sub.triangles.empty()) io::fail(path, "no faces");
-    const auto check = [&](const std::vector<Vec3>& values, const char* what) {
-        for (std::size_t i = 0; i < values.size(); ++i)
-            if (!std::isfinite(values[i].x) || !std::isfinite(values[i].y) || !std::isfinite(values[i].z))
-                io::fail(path, std::string(what) + " " + std::to_string(i) + " is not finite");
-    };
-    check(sub.positions, "vertex");
-    check(sub.vertex_normals, "vertex normal");
-    for (const SubdividedMesh::SplitCorner& s : sub.split_corners)
-        if (!std::isfinite(s.normal.x) || !std::isfinite(s.normal.y) || !std::isfinite(s.normal.z))
-            io::fail(path, "corner normal " + std::to_string(s.slot) + " is not finite");
+    io::validate_subdivided(sub, path);
     write_checked(path, ext, MeshOut::of(sub));
 }
 
