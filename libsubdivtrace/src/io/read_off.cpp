@@ -3,6 +3,7 @@
 
 #include <cstdint>
 
+#include "huge_pages.h"
 #include "io/io_util.h"
 #include "io/text_cursor.h"
 
@@ -55,7 +56,13 @@ Polygons read_off(const std::string& path, const std::string& data) {
     if (nf == 0) fail(path, "no faces (header says 0)");
 
     Polygons m;
-    m.positions.reserve(static_cast<std::size_t>(nv));
+    // Sizes from the header (checked against the file's above), allocated
+    // once on huge pages (huge_pages.h); faces reserved as triangles.
+    detail::reserve_huge(m.positions, static_cast<std::size_t>(nv));
+    if (has_normal) detail::reserve_huge(m.normals, static_cast<std::size_t>(nv));
+    if (has_uv) detail::reserve_huge(m.uvs, static_cast<std::size_t>(nv));
+    detail::reserve_huge(m.sizes, static_cast<std::size_t>(nf));
+    detail::reserve_huge(m.v, 3 * static_cast<std::size_t>(nf));
     for (std::int64_t i = 0; i < nv; ++i) {
         c.skip_all(true);
         m.positions.push_back(expect_vec3_any(c, path, "vertex", true));

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "huge_pages.h"
 #include "io/io_util.h"
 #include "io/text_cursor.h"
 
@@ -16,6 +17,11 @@ namespace {
 
 Polygons read_stl_binary(const std::string& path, const std::string& data, std::uint32_t n) {
     Polygons m;
+    // Sizes known from the header (checked against the file's): allocated
+    // once, on huge pages (huge_pages.h).
+    detail::reserve_huge(m.positions, 3 * std::size_t{n});
+    detail::reserve_huge(m.v, 3 * std::size_t{n});
+    detail::reserve_huge(m.sizes, n);
     const auto* b = reinterpret_cast<const unsigned char*>(data.data()) + 84;
     auto f32 = [&](std::size_t offset) {
         const std::uint32_t u = std::uint32_t(b[offset]) | std::uint32_t(b[offset + 1]) << 8 |
