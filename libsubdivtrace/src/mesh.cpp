@@ -9,6 +9,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "finite_values.h"
 #include "huge_pages.h"
 #include "orient.h"
 #include "weld.h"
@@ -20,11 +21,6 @@ namespace {
 [[noreturn]] void fail(const std::string& source, const std::string& reason) {
     throw MeshError(source + ": " + reason);
 }
-
-bool is_finite(const Vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-bool is_finite(const Vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
 
 std::string format_number(double v) {
     char buf[32];
@@ -45,9 +41,9 @@ std::string format_vec(const Vec2& v) {
 
 /// Every value of `values` must be finite; `what` names them in the message.
 template <class V>
-void check_finite(const std::vector<V>& values, const char* what, const std::string& source) {
+void check_all_finite(const std::vector<V>& values, const char* what, const std::string& source) {
     for (std::size_t i = 0; i < values.size(); ++i)
-        if (!is_finite(values[i]))
+        if (!detail::is_finite(values[i]))
             fail(source, std::string(what) + " " + std::to_string(i) + " is not finite " +
                              format_vec(values[i]));
 }
@@ -92,6 +88,14 @@ std::vector<std::uint32_t> orient_consistently(Mesh& mesh, const std::string& so
 
 }  // namespace
 
+void detail::check_finite(const std::vector<Vec3>& values, const char* what, const std::string& source) {
+    check_all_finite(values, what, source);
+}
+
+void detail::check_finite(const std::vector<Vec2>& values, const char* what, const std::string& source) {
+    check_all_finite(values, what, source);
+}
+
 Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
                       std::vector<std::string>* warnings, const WeldOptions& weld,
                       WeldReport* report) {
@@ -116,9 +120,9 @@ Mesh mesh_from_arrays(const MeshArrays& arrays, const std::string& source,
         fail(source, "weld tolerance must be finite and >= 0 (it is " +
                          format_number(weld.relative_tolerance) + ")");
 
-    check_finite(arrays.positions, "vertex", source);
-    check_finite(arrays.normals, "normal", source);
-    check_finite(arrays.uvs, "uv", source);
+    detail::check_finite(arrays.positions, "vertex", source);
+    detail::check_finite(arrays.normals, "normal", source);
+    detail::check_finite(arrays.uvs, "uv", source);
 
     const bool has_normals = !arrays.normals.empty();
     const bool has_uvs = !arrays.uvs.empty();
@@ -239,9 +243,9 @@ void validate_mesh(const Mesh& mesh, const std::string& source) {
     if (!mesh.corner_uvs.empty() && mesh.corner_uvs.size() != corners)
         fail(source, "corner_uvs has " + std::to_string(mesh.corner_uvs.size()) +
                          " entries, expected 3 per triangle (" + std::to_string(corners) + ")");
-    check_finite(mesh.positions, "vertex", source);
-    check_finite(mesh.corner_normals, "corner normal", source);
-    check_finite(mesh.corner_uvs, "corner uv", source);
+    detail::check_finite(mesh.positions, "vertex", source);
+    detail::check_finite(mesh.corner_normals, "corner normal", source);
+    detail::check_finite(mesh.corner_uvs, "corner uv", source);
     const std::size_t n = mesh.positions.size();
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const Triangle& tri = mesh.triangles[t];

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "finite_values.h"
 #include "io/io_util.h"
 #include "io/mesh_out.h"
 #include "subdivtrace/mesh_io.h"
@@ -19,16 +20,10 @@ namespace io {
 
 void validate_subdivided(const SubdividedMesh& sub, const std::string& path) {
     if (sub.triangles.empty()) fail(path, "no faces");
-    const auto check = [&](const std::vector<Vec3>& values, const char* what) {
-        for (std::size_t i = 0; i < values.size(); ++i)
-            if (!std::isfinite(values[i].x) || !std::isfinite(values[i].y) || !std::isfinite(values[i].z))
-                fail(path, std::string(what) + " " + std::to_string(i) + " is not finite");
-    };
-    check(sub.positions, "vertex");
-    check(sub.vertex_normals, "vertex normal");
+    detail::check_finite(sub.positions, "vertex", path);
+    detail::check_finite(sub.vertex_normals, "vertex normal", path);
     for (const SubdividedMesh::SplitCorner& s : sub.split_corners)
-        if (!std::isfinite(s.normal.x) || !std::isfinite(s.normal.y) || !std::isfinite(s.normal.z))
-            fail(path, "corner normal " + std::to_string(s.slot) + " is not finite");
+        if (!detail::is_finite(s.normal)) fail(path, "corner normal " + std::to_string(s.slot) + " is not finite");
 }
 
 }  // namespace io
