@@ -402,6 +402,25 @@ TEST_CASE("depth-first keys follow the child paths: each node's descendants are 
     }
 }
 
+TEST_CASE("a depth-first key is the node's path of child indices, at every level up to 31", "[hierarchy]") {
+    // The truth is the path itself: walk down from a root by child_of with
+    // random child indices and write each index in two bits, level 1 at the top.
+    std::mt19937 rng(20261207);
+    std::uniform_int_distribution<int> child(0, 3);
+    int wrong = 0;
+    for (int walk = 0; walk < 2000; ++walk) {
+        NodeId id = Hierarchy::root(static_cast<std::uint32_t>(walk));
+        std::uint64_t path = 0;
+        for (int level = 1; level <= 31; ++level) {
+            const int c = child(rng);
+            id = child_of(id, c);
+            path |= static_cast<std::uint64_t>(c) << (62 - 2 * level);
+            wrong += detail::depth_first_key(id) != path;
+        }
+    }
+    CHECK(wrong == 0);
+}
+
 TEST_CASE("shading normals are the next level's normals at a node's corners and edge midpoints",
           "[hierarchy][shading]") {
     // The interpolating schemes' shading normals are their normals one level
