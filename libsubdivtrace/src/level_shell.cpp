@@ -69,9 +69,10 @@ ShellGrid ShellGrid::spanning(const Shell* shells, std::size_t count, const Vec3
     // step (three products each, then their difference), all below the
     // magnitude of the grid's corners plus the origin.
     double magnitude = 0.0;
+    const LevelShell::Frame unshifted(grid, Vec3(0.0));
     for (int a = 0; a < 3; ++a)
         magnitude += std::abs(origin[a]) + std::max(std::abs(static_cast<double>(grid.lo[a])),
-                                                    std::abs(grid.coordinate(a, k_last, Vec3(0.0))));
+                                                    std::abs(unshifted.coordinate(a, k_last)));
     grid.pad = round_up(gamma_bound(16) * 2.0 * magnitude);
     // A level wider than a float reaches (1e38 and up; its magnitude above
     // is then infinite too): its shells hold everything (expand()).
@@ -87,15 +88,16 @@ LevelShell LevelShell::from(const Shell& s, const ShellGrid& grid, const Vec3& o
         for (int a = 0; a < 3; ++a) c.lo[a] = k_last;
         return c;
     }
+    const Frame frame(grid, origin);
     for (int a = 0; a < 3; ++a) {
-        const auto value = [&](std::uint16_t q) { return grid.coordinate(a, q, origin); };
+        const auto value = [&](std::uint16_t q) { return frame.coordinate(a, q); };
         const double first = origin[a] + static_cast<double>(grid.lo[a]);
         c.lo[a] = step_at_or_below(s.lo[a], first, grid.step[a], value);
         c.hi[a] = step_at_or_above(s.hi[a], first, grid.step[a], value);
         c.axis[a] = axis_bits(s.axis[a]);
     }
     if (c.axis[0] != 0 || c.axis[1] != 0 || c.axis[2] != 0) {
-        const SlabSpan span = SlabSpan::of(c.box(grid, origin));
+        const SlabSpan span = SlabSpan::of(c.box(frame));
         const auto value = [&](std::uint16_t q) { return span.value(q); };
         c.slab[0] = step_at_or_below(s.slab_min, span.base, span.step, value);
         c.slab[1] = step_at_or_above(s.slab_max, span.base, span.step, value);

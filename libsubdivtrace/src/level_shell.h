@@ -43,11 +43,6 @@ struct ShellGrid {
     static constexpr std::uint16_t k_last = 65535;
     /// A grid whose k_last steps span the non-empty shells of `shells`.
     static ShellGrid spanning(const Shell* shells, std::size_t count, const Vec3& origin);
-    /// Coordinate `a` of grid point q (what LevelShell::expand reads).
-    double coordinate(int a, std::uint16_t q, const Vec3& origin) const {
-        // q * step is exact in double (16 by 24 bits).
-        return origin[a] + (static_cast<double>(lo[a]) + q * static_cast<double>(step[a]));
-    }
 };
 
 /// Where a box's slab fractions lie along its axis: fraction 0 at `base`
@@ -78,34 +73,54 @@ struct LevelShell {
     /// `shell.axis` must be storable_axis's (descendant_shell rounds it so).
     /// An empty shell stays empty.
     static LevelShell from(const Shell& shell, const ShellGrid& grid, const Vec3& origin);
+    /// What expand() reads of a level's grid and its tile's origin, in
+    /// double once for the four children a ray expands at every node it
+    /// enters (the same bits: a float converts to double exactly).
+    struct Frame {
+        Frame(const ShellGrid& grid, const Vec3& tile_origin)
+            : origin(tile_origin),
+              lo{grid.lo[0], grid.lo[1], grid.lo[2]},
+              step{grid.step[0], grid.step[1], grid.step[2]},
+              pad(grid.pad),
+              unbounded(!(grid.pad <= std::numeric_limits<float>::max())) {}
+        Vec3 origin;
+        double lo[3];
+        double step[3];
+        double pad;
+        /// A level too wide for the grid (ShellGrid::spanning).
+        bool unbounded;
+        /// Coordinate `a` of grid point q (q * step is exact in double: 16 by 24 bits).
+        double coordinate(int a, std::uint16_t q) const { return origin[a] + (lo[a] + q * step[a]); }
+    };
+
     /// Inline: a ray expands the shells of the four children of every node it enters.
-    Shell expand(const ShellGrid& grid, const Vec3& origin) const {
+    Shell expand(const Frame& f) const {
         if (lo[0] > hi[0]) return Shell{};  // stored empty
-        if (!(grid.pad <= std::numeric_limits<float>::max())) {
-            // A level too wide for the grid (ShellGrid::spanning): unbounded.
+        if (f.unbounded) {
             Shell unbounded;
             unbounded.lo = Vec3(-std::numeric_limits<double>::infinity());
             unbounded.hi = Vec3(std::numeric_limits<double>::infinity());
             return unbounded;
         }
-        Shell s = box(grid, origin);
+        Shell s = box(f);
         if (s.axis != Vec3(0.0)) {
             const SlabSpan span = SlabSpan::of(s);
             s.slab_min = span.value(slab[0]);
             s.slab_max = span.value(slab[1]);
         }
-        s.pad(grid.pad);
+        s.pad(f.pad);
         return s;
     }
+    Shell expand(const ShellGrid& grid, const Vec3& origin) const { return expand(Frame(grid, origin)); }
 
 private:
     /// The stored box and axis, unpadded and without the slab: what
     /// expand() starts from and from() measures the slab against.
-    Shell box(const ShellGrid& grid, const Vec3& origin) const {
+    Shell box(const Frame& f) const {
         Shell s;
         for (int a = 0; a < 3; ++a) {
-            s.lo[a] = grid.coordinate(a, lo[a], origin);
-            s.hi[a] = grid.coordinate(a, hi[a], origin);
+            s.lo[a] = f.coordinate(a, lo[a]);
+            s.hi[a] = f.coordinate(a, hi[a]);
             s.axis[a] = axis_of_bits(axis[a]);
         }
         return s;

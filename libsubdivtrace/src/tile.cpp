@@ -58,14 +58,6 @@ void set_corner(const TileLevel& level, std::size_t v, int k, bool normals, Node
     rec.draw_position[k] = draw ? draw[v] : rec.position[k];
 }
 
-/// Triangle index of local grid position (x, y) among the n^2 triangles of
-/// resolution n: "up" triangles row by row, then "down" ones.
-std::size_t local_triangle_index(std::uint32_t n, std::uint32_t x, std::uint32_t y, bool down) {
-    if (!down) return std::size_t{y} * n - std::size_t{y} * (y - 1) / 2 + x;
-    const std::size_t ups = std::size_t{n} * (n + 1) / 2;
-    return ups + std::size_t{y} * (n - 1) - std::size_t{y} * (y - 1) / 2 + x;
-}
-
 /// Finishes level `q` and computes the next level's points its records read
 /// around the triangles `in_region` accepts (into `next`); returns the flags.
 /// A group's first level and a tile's later levels start the same way.
@@ -85,14 +77,6 @@ Flags finish_for_records(const TileContext& ctx, Patch& q, InRegion in_region, P
 
 NodeId tile_root_of(const NodeId& id) {
     return ancestor_at(id, ((id.level - 1) / k_tile_depth) * k_tile_depth);
-}
-
-std::size_t Tile::index_in_level(const NodeId& id) const {
-    const std::uint32_t n = std::uint32_t{1} << (id.level - root_.level);
-    // The root's sub-grid in local coordinates; a "down" root's is point-reflected.
-    if (!root_.down) return local_triangle_index(n, id.i - root_.i * n, id.j - root_.j * n, id.down);
-    return local_triangle_index(n, (root_.i + 1) * n - id.i - 1, (root_.j + 1) * n - id.j - 1,
-                                !id.down);
 }
 
 // Inline: Tile::children() asks for six per call (1.5% of the close-up's
