@@ -61,6 +61,16 @@ namespace {
 /// answer for another surface, nor for a destroyed one's successor.
 struct Front {
     static constexpr std::size_t k_slots = 64;
+    /// The slot of hierarchy `owner`'s tile `root`: one multiply of the
+    /// fields mixed, its top six bits (the shared cache's TileKeyHash mixes
+    /// three times as the shards need, and was half of a lookup here).
+    static std::size_t slot_of(std::uint64_t owner, const NodeId& root) {
+        const std::uint64_t fields = (std::uint64_t{root.face} * 0x9E3779B1u) ^ (std::uint64_t{root.i} << 21) ^
+                                     (std::uint64_t{root.j} << 42) ^ (std::uint64_t{root.level} << 3) ^
+                                     (root.down ? 1u : 0u) ^ (owner << 56);
+        static_assert(k_slots == 64, "six bits");
+        return static_cast<std::size_t>((fields * 0x9E3779B97F4A7C15ULL) >> 58);
+    }
     struct Slot {
         std::uint64_t owner = 0;
         NodeId root;
@@ -267,8 +277,7 @@ public:
     /// thread's next call.
     const detail::Tile* front_tile(const NodeId& root) {
         thread_local Front front;
-        const std::size_t h = detail::TileKeyHash{}(detail::TileKey{id, root});
-        Front::Slot& slot = front.slots[h % Front::k_slots];
+        Front::Slot& slot = front.slots[Front::slot_of(id, root)];
         if (slot.tile && slot.owner == id && slot.root == root) return &slot.tile->tile;
         std::shared_ptr<const CachedTile> t = tile(root);
         front.drop(slot);

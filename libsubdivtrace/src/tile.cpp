@@ -75,10 +75,6 @@ Flags finish_for_records(const TileContext& ctx, Patch& q, InRegion in_region, P
 
 }  // namespace
 
-NodeId tile_root_of(const NodeId& id) {
-    return ancestor_at(id, ((id.level - 1) / k_tile_depth) * k_tile_depth);
-}
-
 // Inline: Tile::children() asks for six per call (1.5% of the close-up's
 // instructions as a call).
 inline std::size_t Tile::vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const {

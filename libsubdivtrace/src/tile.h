@@ -384,8 +384,11 @@ inline std::size_t Tile::index_in_level(const NodeId& id) const {
                                 !id.down);
 }
 
-/// Root of the tile that holds node `id` (level >= 1).
-NodeId tile_root_of(const NodeId& id);
+/// Root of the tile that holds node `id` (level >= 1). Inline: every node a
+/// ray visits asks for its tile.
+inline NodeId tile_root_of(const NodeId& id) {
+    return ancestor_at(id, ((id.level - 1) / k_tile_depth) * k_tile_depth);
+}
 /// Root of the tile whose deepest level holds `root` (a tile root of level >= 1).
 NodeId parent_tile_root(const NodeId& root);
 
