@@ -114,13 +114,19 @@ void Patch::finish(const BaseTopology& topo, const SchemeRules& scheme) {
     // then the edges, which need to know it.
     rings.assign(n, Ring{});
     derived.assign(n, VertexDerived{});
+    // A triangle is whole when its three corners have positions; a vertex's
+    // ring, when all its level's triangles are here and whole.
+    thread_local Flags whole;
+    whole.resize(tris.size());
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+        const auto& v = tris[t].v;
+        whole[t] = verts[v[0]].has_position & verts[v[1]].has_position & verts[v[2]].has_position;
+    }
     for (std::uint32_t v = 0; v < n; ++v) {
         VertexDerived& dv = derived[v];
         dv.has_ring = verts[v].has_position && offsets[v + 1] - offsets[v] == verts[v].true_ring;
-        for (std::uint32_t k = offsets[v]; k < offsets[v + 1] && dv.has_ring; ++k) {
-            const PatchTriangle& t = tris[slots[k] / 3];
-            for (std::uint32_t w : t.v) dv.has_ring = dv.has_ring && verts[w].has_position;
-        }
+        for (std::uint32_t k = offsets[v]; k < offsets[v + 1] && dv.has_ring; ++k)
+            dv.has_ring = whole[slots[k] / 3] != 0;
     }
     build_edges();
 
