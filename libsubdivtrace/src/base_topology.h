@@ -37,7 +37,13 @@ public:
     FaceRange faces_of_vertex(std::uint32_t v) const { return faces_.faces_of(v); }
 
     /// Number of base triangles on the edge between base vertices u and w.
-    std::size_t edge_face_count(std::uint32_t u, std::uint32_t w) const;
+    /// Where no edge has more than two, an edge with one has both ends on a
+    /// curve, so the faces are counted only there (it was 1.7% of a render
+    /// of an open modeller's mesh, every new edge point asking).
+    std::size_t edge_face_count(std::uint32_t u, std::uint32_t w) const {
+        if (at_most_two_ && !(on_curve(u) && on_curve(w))) return 2;
+        return counted_edge_faces(u, w);
+    }
 
     /// True if every base edge has exactly two triangles.
     bool closed() const { return closed_; }
@@ -67,6 +73,7 @@ public:
     }
 
 private:
+    std::size_t counted_edge_faces(std::uint32_t u, std::uint32_t w) const;
     /// Calls visit(f) for every face on the edge {u, w}, in increasing order.
     template <class Visit>
     void for_each_face_of_edge(std::uint32_t u, std::uint32_t w, Visit visit) const {
@@ -76,6 +83,7 @@ private:
     const Mesh& mesh_;
     VertexFaces faces_;
     bool closed_ = true;
+    bool at_most_two_ = false;  ///< no edge has more than two triangles (set once on_curve_ is)
     std::vector<std::uint8_t> crease_mask_;  ///< empty when the mesh has no crease
     std::vector<std::uint8_t> on_curve_;  ///< empty when nothing is on a curve
     std::vector<Vec3> given_vertex_;      ///< a vertex's first corner's normal
