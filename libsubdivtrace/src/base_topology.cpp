@@ -14,7 +14,7 @@ BaseTopology::BaseTopology(const Mesh& mesh)
     // Closed: every edge, seen from each of its faces, has exactly two.
     for (const Triangle& t : mesh.triangles) {
         for (int c = 0; c < 3 && closed_; ++c)
-            closed_ = counted_edge_faces(t[c], t[(c + 1) % 3]) == 2;
+            closed_ = edge_face_count(t[c], t[(c + 1) % 3]) == 2;
         if (!closed_) break;
     }
     if (mesh.has_normals()) {
@@ -45,7 +45,7 @@ BaseTopology::BaseTopology(const Mesh& mesh)
         const Triangle& t = mesh.triangles[f];
         for (int e = 0; e < 3; ++e) {
             const std::uint32_t u = t[e], w = t[(e + 1) % 3];
-            const std::size_t faces = counted_edge_faces(u, w);
+            const std::size_t faces = edge_face_count(u, w);
             at_most_two = at_most_two && faces <= 2;
             if (is_crease(f, e) || faces == 1) on_curve_[u] = on_curve_[w] = 1;
         }
@@ -67,7 +67,7 @@ Vec3 BaseTopology::given_normal(std::uint32_t face, std::uint32_t v) const {
     return given_vertex_[v];
 }
 
-std::size_t BaseTopology::counted_edge_faces(std::uint32_t u, std::uint32_t w) const {
+std::size_t BaseTopology::edge_face_count(std::uint32_t u, std::uint32_t w) const {
     std::size_t n = 0;
     for_each_face_of_edge(u, w, [&](std::uint32_t) { ++n; });
     return n;

@@ -30,7 +30,7 @@ std::uint16_t true_incident_count(const BaseTopology& topo, const VertexKey& key
     std::size_t n = 6;
     if (key.kind == VertexKey::base_vertex) n = topo.faces_of_vertex(key.a).size();
     else if (key.kind == VertexKey::edge_point)
-        n = 3 * (topo.closed() ? 2 : topo.edge_face_count(key.a, key.b));  // closed: two on every edge
+        n = 3 * (topo.closed() ? 2 : topo.faces_on_edge(key.a, key.b));  // closed: two on every edge
     return static_cast<std::uint16_t>(std::min<std::size_t>(n, UINT16_MAX));
 }
 

@@ -62,6 +62,14 @@ void check_against_brute_force(const Mesh& m) {
         const auto got = topo.faces_of_vertex(v);
         REQUIRE(std::vector<std::uint32_t>(got.begin(), got.end()) == expected);
     }
+    // The mesh's own edges, as every new edge point asks (faces_on_edge
+    // counts only where an edge may have other than two).
+    for (const Triangle& t : m.triangles)
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t u = t[c], w = t[(c + 1) % 3];
+            REQUIRE(topo.faces_on_edge(u, w) == brute_faces_of_edge(m, u, w).size());
+            REQUIRE(topo.faces_on_edge(w, u) == brute_faces_of_edge(m, u, w).size());
+        }
     // Every vertex pair, edges or not, both orders.
     std::vector<GridPoint> reps;
     for (std::uint32_t u = 0; u < m.positions.size(); ++u) {
@@ -102,6 +110,8 @@ TEST_CASE("base topology: faces of vertices and edges agree with brute force",
     // Named meshes: closed, open, and the non-manifold fan of the stiff cases.
     check_against_brute_force(testmesh::icosahedron());
     check_against_brute_force(testmesh::open_grid(4));
+    check_against_brute_force(testmesh::octasphere_half(2, true));  // open, every edge one or two faces
+    check_against_brute_force(testmesh::faceted_cube());             // closed, with creases
     const BaseTopology ico(testmesh::icosahedron());
     CHECK(ico.closed());
     const Mesh grid = testmesh::open_grid(4);
