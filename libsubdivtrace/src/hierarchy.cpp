@@ -405,9 +405,11 @@ const std::shared_ptr<TileCache>& Hierarchy::cache() const { return impl_->cache
 
 NodeRecord Hierarchy::node(const NodeId& id, Part part) const {
     const bool normals = part == Part::all;
-    if (id.level == 0) return impl_->roots.record(id.face, normals);
+    if (id.level == 0) return impl_->roots.record(id.face, normals, part != Part::corners);
     return impl_->front_tile(detail::tile_root_of(id))->record(id, normals, part != Part::corners);
 }
+
+Shell Hierarchy::root_shell(std::uint32_t face) const { return impl_->roots.shell(face); }
 
 void Hierarchy::child_shells(const NodeId& id, std::array<Shell, 4>& out) const {
     impl_->front_tile(detail::tile_root_of(child_of(id, 0)))->child_shells(id, out);

@@ -133,7 +133,7 @@ void RootRecords::lend_normals(Patch& p) const {
         });
 }
 
-NodeRecord RootRecords::record(std::uint32_t face, bool normals) const {
+NodeRecord RootRecords::record(std::uint32_t face, bool normals, bool with_shell) const {
     NodeRecord rec;
     const Triangle& t = mesh_->triangles[face];
     for (int c = 0; c < 3; ++c) {
@@ -152,7 +152,7 @@ NodeRecord RootRecords::record(std::uint32_t face, bool normals) const {
             rec.shading_normal[it->slot - 3 * face] = Vec3(it->shading);
         }
     }
-    rec.shell = shells_[face].expand(rec.position[0]);
+    if (with_shell) rec.shell = shell(face);
     return rec;
 }
 

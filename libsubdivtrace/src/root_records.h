@@ -22,8 +22,11 @@ class RootRecords {
 public:
     explicit RootRecords(const TileContext& ctx);
     /// Base triangle `face`'s record; without `normals`, its shading and
-    /// edge-midpoint normals are left zero (Hierarchy::Part::geometry).
-    NodeRecord record(std::uint32_t face, bool normals = true) const;
+    /// edge-midpoint normals are left zero (Hierarchy::Part::geometry);
+    /// without `with_shell`, its shell is left empty (Part::corners).
+    NodeRecord record(std::uint32_t face, bool normals = true, bool with_shell = true) const;
+    /// Its shell alone (record(face).shell).
+    Shell shell(std::uint32_t face) const { return shells_[face].expand(mesh_->positions[mesh_->triangles[face][0]]); }
     /// Gives the level-0 patch `p` (finished) the normals of its vertices
     /// with whole rings: the same bits ensure_normal would compute (both sum
     /// the ring in canonical order), once per mesh instead of once per tile.

@@ -116,7 +116,7 @@ public:
         detail::reserve_huge(lo, mesh.triangles.size());
         detail::reserve_huge(hi, mesh.triangles.size());
         for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-            const Shell shell = hierarchy.node(Hierarchy::root(f), Hierarchy::Part::geometry).shell;
+            const Shell shell = hierarchy.root_shell(f);
             lo.push_back(shell.lo);
             hi.push_back(shell.hi);
             bounds.lo = f == 0 ? lo.back() : glm::min(bounds.lo, lo.back());
@@ -317,14 +317,19 @@ struct Walk {
                8.0 * displacement > k_max_turn * tolerance * length;
     }
 
-    bool shell_entry(const Shell& shell, const DrawnCorner* drawn, double& t_entry) const {
+    /// Whether the ray enters the shell (every node does, collecting drawn triangles).
+    bool enters(const Shell& shell, double& t_entry) const {
         if (mode == WalkMode::drawn) {
             t_entry = 0.0;
             return true;
         }
         // query.t_max is t_max (leaf() lowers both).
-        if (drawn[0].alive && drawn[1].alive && drawn[2].alive)
-            return ray_hits_shell(query, shell, s.options.shell_kind, t_entry);
+        return ray_hits_shell(query, shell, s.options.shell_kind, t_entry);
+    }
+
+    bool shell_entry(const Shell& shell, const DrawnCorner* drawn, double& t_entry) const {
+        if (mode == WalkMode::drawn || (drawn[0].alive && drawn[1].alive && drawn[2].alive))
+            return enters(shell, t_entry);
         // Snapped corners can lie outside the node's own shell: grow by them.
         Shell grown = shell;
         for (int c = 0; c < 3; ++c)
@@ -430,11 +435,16 @@ struct Walk {
     /// Starts the descent at a base triangle: its corners and edges are its own.
     void visit_root(std::uint32_t face) {
         const NodeId id = Hierarchy::root(face);
-        const NodeRecord rec = s.hierarchy.node(id, Hierarchy::Part::geometry);
+        // The shell first, alone: a BVH leaf lists two base triangles, and
+        // a ray misses most of those it meets (five a ray in the close-up),
+        // so reading their whole records cost more than testing.
+        const Shell shell = s.hierarchy.root_shell(face);
+        double t_entry;
+        if (!enters(shell, t_entry)) return;
+        NodeRecord rec = s.hierarchy.node(id, Hierarchy::Part::corners);
+        rec.shell = shell;
         DrawnCorner drawn[3];
         for (int c = 0; c < 3; ++c) drawn[c] = {rec.draw_position[c], id, c, grid_domain(id, c), true};
-        double t_entry;
-        if (!shell_entry(rec.shell, drawn, t_entry)) return;
         const bool exists[3] = {true, true, true};
         visit(id, rec, drawn, exists, FromParent{});
     }

@@ -125,6 +125,9 @@ public:
     /// The records of the four children of `id` (level < max_level), in
     /// child_of order (node() of each). Thread-safe.
     void children(const NodeId& id, std::array<NodeRecord, 4>& out) const;
+    /// The shell of base triangle `face` alone (node(root(face)).shell):
+    /// what a ray tests before it reads the rest of the record.
+    Shell root_shell(std::uint32_t face) const;
     /// The shells of the four children of `id` alone (what a ray tests
     /// before it enters one), in child_of order.
     void child_shells(const NodeId& id, std::array<Shell, 4>& out) const;
