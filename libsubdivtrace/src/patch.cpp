@@ -9,6 +9,7 @@
 
 #include "creases.h"
 #include "edge_rings.h"
+#include "fan_scratch.h"
 #include "id_table.h"
 #include "ring_order.h"
 
@@ -467,10 +468,10 @@ void Patch::compute_normal(const BaseTopology& topo, const SchemeRules& scheme, 
                        (level == 0 || k_given_normals_every_level);
     // One normal per sector, summed in the canonical order (ring_pairs).
     const std::uint32_t first = incident_offsets[v], count = incident_offsets[v + 1] - first;
-    thread_local std::vector<Vec3> from, to, weight;
-    from.resize(count);
-    to.resize(count);
-    weight.resize(count);
+    FanScratch from_room, to_room, weight_room;
+    Vec3* from = from_room.room(count);
+    Vec3* to = to_room.room(count);
+    Vec3* weight = weight_room.room(count);
     for (std::uint32_t k = 0; k < count; ++k) {
         const std::uint32_t slot = incident_slots[first + k];
         const PatchTriangle& t = tris[slot / 3];
@@ -478,7 +479,7 @@ void Patch::compute_normal(const BaseTopology& topo, const SchemeRules& scheme, 
         from[k] = verts[t.v[(c + 1) % 3]].position;
         to[k] = verts[t.v[(c + 2) % 3]].position;
     }
-    angle_weighted_fan(pv.position, from.data(), to.data(), count, weight.data());
+    angle_weighted_fan(pv.position, from, to, count, weight);
     if (given)
         for (std::uint32_t k = 0; k < count; ++k) {
             const Vec3 g = topo.given_normal(tris[incident_slots[first + k] / 3].id.face, pv.key.a);

@@ -3,6 +3,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "fan_scratch.h"
 #include "float_step.h"
 #include "node_shell.h"
 
@@ -40,9 +41,12 @@ Vec3 compute_shading_normal(const TileContext& ctx, const Patch& p, const Patch&
     // point) for each of its triangles in the corner's sector.
     const bool one_sector = p.derived[v].single_sector;
     const std::uint16_t sector = p.corner_sector[3 * t + c];
-    thread_local std::vector<Vec3> from, to, weight;
-    from.clear();
-    to.clear();
+    const std::size_t incident = p.incident_offsets[v + 1] - p.incident_offsets[v];
+    FanScratch from_room, to_room, weight_room;
+    Vec3* from = from_room.room(incident);
+    Vec3* to = to_room.room(incident);
+    Vec3* weight = weight_room.room(incident);
+    std::size_t count = 0;
     for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
         const std::uint32_t slot = p.incident_slots[k];
         if (!one_sector && p.corner_sector[slot] != sector) continue;
@@ -50,13 +54,13 @@ Vec3 compute_shading_normal(const TileContext& ctx, const Patch& p, const Patch&
         const PatchEdge& out = p.edges[p.tri_edges[slot]];
         const PatchEdge& in = p.edges[p.tri_edges[first + (slot % 3 + 2) % 3]];
         if (!out.valid || !in.valid) stencil_cut("an edge point next to a corner");
-        from.push_back(next.verts[out.point].position);
-        to.push_back(next.verts[in.point].position);
+        from[count] = next.verts[out.point].position;
+        to[count] = next.verts[in.point].position;
+        ++count;
     }
-    weight.resize(from.size());
-    angle_weighted_fan(next.verts[v].position, from.data(), to.data(), from.size(), weight.data());
+    angle_weighted_fan(next.verts[v].position, from, to, count, weight);
     Vec3 sum(0.0);
-    for (const Vec3& w : weight) sum += w;
+    for (std::size_t k = 0; k < count; ++k) sum += weight[k];
     const Vec3 n = finish_normal(sum);
     return n == Vec3(0.0) ? own : n;
 }
