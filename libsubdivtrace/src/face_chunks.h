@@ -1,7 +1,7 @@
 #pragma once
-// Base triangles grouped into small connected chunks, so that the first
-// level of their tiles is computed once per chunk (tile.h, RootChunk): a
-// lone base triangle's tile would subdivide a border many times its own
+// Base triangles grouped into small connected chunks, so that the level
+// their tiles start from is computed once per chunk (tile.h, chunk_level):
+// a lone base triangle's tile would subdivide a border many times its own
 // size, and a chunk of neighbours shares one.
 
 #include <cstddef>

@@ -29,7 +29,7 @@ namespace detail {
 struct FrontTally {
     std::atomic<std::size_t> fronts{0};      ///< threads holding at least one of its tiles
     std::atomic<std::size_t> tile_bytes{0};  ///< tiles held, each front counting its own
-    std::atomic<std::size_t> below_bytes{0}; ///< levels below parent tiles held (BelowParents)
+    std::atomic<std::size_t> below_bytes{0}; ///< levels below parent tiles held (StartLevels)
 };
 
 /// A tile as the cache holds it, with the bytes it is charged (computed once,
@@ -116,23 +116,31 @@ struct Front {
     }
 };
 
-/// The level below a parent tile's deepest one (Tile::below_deepest), kept
-/// by each thread for the parent's next children (tile.h, LevelBelow): the
-/// rays that reach one child mostly reach its siblings soon after, on the
-/// same thread, and the parent tile does not keep it (it is about 3x the
-/// rest of the tile). The bunny close-up computed 1,016 for 13 k child
-/// tiles with 32 slots (4,223 with 8, 3,003 with 16, 726 with 64): a row of
-/// pixels crosses about that many parents before the next row comes back
-/// to them. Keyed like the front, by hierarchy id and tile root: whichever
-/// build of the parent computed it, its bits are the same. Its bytes count
-/// apart from the fronts' (HierarchyCounters::below_bytes).
-struct BelowParents {
-    static constexpr std::size_t k_slots = 32;
+/// The levels tiles start from (tile.h, LevelBelow), kept by each thread
+/// for the next tiles that start there. Two kinds, one instance each:
+/// - the level below a parent tile's deepest one (Tile::below_deepest), for
+///   the parent's next children: the rays that reach one child mostly
+///   reach its siblings soon after, on the same thread, and the parent tile
+///   does not keep it (it is about 3x the rest of the tile). The bunny
+///   close-up computed 1,016 for 13 k child tiles with 32 slots (4,223 with
+///   8, 3,003 with 16, 726 with 64): a row of pixels crosses about that
+///   many parents before the next row comes back to them;
+/// - a chunk's level 1 (chunk_level), for its base triangles' tiles: each
+///   is built when a ray asks for it, where a chunk's 16 tiles used to be
+///   built together (the fine vase built 23,918 tiles for the 15,697 its
+///   rays asked for, and filled its 32 MB cache with them).
+/// Keyed like the front, by hierarchy id and tile root (a chunk's: its
+/// first face's): whichever thread computed a level, its bits are the same.
+/// Its bytes count apart from the fronts' (HierarchyCounters::below_bytes).
+struct StartLevels {
     /// Levels kept finished at once, the most recently built from: a
     /// finished level holds about 4x its bytes.
-    static constexpr std::size_t k_finished = 8;
-    /// Groups started from a level's own bands before it is finished.
-    static constexpr std::uint32_t k_groups_before_finishing = 4;
+    const std::size_t max_finished;
+    /// Tile groups that start from a level's own bands before it is
+    /// finished (worth_finishing).
+    const std::uint32_t groups_before_finishing;
+    StartLevels(std::size_t slot_count, std::size_t max_finished_, std::uint32_t groups_before_finishing_)
+        : max_finished(max_finished_), groups_before_finishing(groups_before_finishing_), slots(slot_count) {}
     struct Slot {
         std::uint64_t owner = 0;
         NodeId root;
@@ -142,7 +150,7 @@ struct BelowParents {
         std::uint64_t last_built = 0;  ///< when a tile group last started from it
         std::uint32_t groups_started = 0;  ///< tile groups started from it since it was last unfinished
     };
-    std::array<Slot, k_slots> slots;
+    std::vector<Slot> slots;
     std::size_t next = 0;  ///< the slot replaced next (round robin)
     std::uint64_t groups = 0;  ///< tile groups started so far
 
@@ -158,15 +166,16 @@ struct BelowParents {
         return s ? s->level.get() : nullptr;
     }
 
-    /// The slot holding the level below tile `root`'s deepest, computed if
+    /// The slot holding the level keyed `root`, computed by `compute()` if
     /// this thread has it not.
-    Slot& of(std::uint64_t owner, const NodeId& root, const detail::Tile& parent,
-             const std::shared_ptr<FrontTally>& tally) {
+    template <class Compute>
+    Slot& of(std::uint64_t owner, const NodeId& root, const std::shared_ptr<FrontTally>& tally,
+             Compute compute) {
         if (Slot* found = slot_of(owner, root)) return *found;
         Slot& s = slots[next];
-        next = (next + 1) % k_slots;
+        next = (next + 1) % slots.size();
         release(s);
-        s.level = std::make_unique<detail::LevelBelow>(parent.below_deepest());
+        s.level = std::make_unique<detail::LevelBelow>(compute());
         s.owner = owner;
         s.root = root;
         s.bytes = s.level->owned_bytes();
@@ -180,12 +189,12 @@ struct BelowParents {
     /// tiles are often its only ones (a silhouette, another object's
     /// shadow ray), and finishing the whole level for one or two of them
     /// cost more than it saved (POV-Ray's twenty bunnies: 1.07x the CPU).
-    static bool worth_finishing(const Slot& s) {
-        return s.level->finished() || s.groups_started >= k_groups_before_finishing;
+    bool worth_finishing(const Slot& s) const {
+        return s.level->finished() || s.groups_started >= groups_before_finishing;
     }
 
     /// Before a tile group starts from slot `s`'s level itself: if it is
-    /// not finished and k_finished others are, the one least recently
+    /// not finished and max_finished others are, the one least recently
     /// started from is unfinished.
     void make_room(const Slot& s) {
         if (s.level->finished()) return;
@@ -196,7 +205,7 @@ struct BelowParents {
             ++finished;
             if (!oldest || other.last_built < oldest->last_built) oldest = &other;
         }
-        if (finished < k_finished || !oldest) return;
+        if (finished < max_finished || !oldest) return;
         oldest->level->unfinish();
         oldest->groups_started = 0;  // finished again only if it serves more groups
         recharge(*oldest);
@@ -225,14 +234,23 @@ struct BelowParents {
         s.level.reset();
     }
 
-    ~BelowParents() {
+    ~StartLevels() {
         for (Slot& s : slots) release(s);
     }
 
-    /// This thread's.
-    static BelowParents& mine() {
-        thread_local BelowParents below;
+    /// This thread's levels below parent tiles, keyed by the parent's root.
+    static StartLevels& below_parents() {
+        thread_local StartLevels below(32, 8, 4);
         return below;
+    }
+    /// This thread's chunks' level 1 (detail::chunk_level), keyed by the
+    /// root of the chunk's first face: where base triangles' tiles start.
+    /// Finished at once and kept finished: a chunk's tiles are its faces',
+    /// not a parent's few children, and rows of pixels cross many chunks
+    /// (with 8 kept finished, the fine vase finished each level 2.5 times).
+    static StartLevels& chunk_levels() {
+        thread_local StartLevels chunks(32, 16, 0);
+        return chunks;
     }
 };
 
@@ -259,7 +277,7 @@ public:
             // Cut from the level below the parent where this thread has it
             // (the group's own start, cheaper than splitting the parent's band).
             const NodeId parent_root = detail::parent_tile_root(root);
-            if (const detail::LevelBelow* below = BelowParents::mine().find(id, parent_root))
+            if (const detail::LevelBelow* below = StartLevels::below_parents().find(id, parent_root))
                 return detail::band_of_roots(below->patch(), {root});
             return tile(parent_root)->tile.band_of_child(root);
         };
@@ -290,58 +308,48 @@ public:
     }
 
     /// The tile from the shared cache, built by this thread if no other has
-    /// it or is building it, with the tiles of its group that no thread has
-    /// or builds: a group shares one subdivided border instead of one each
-    /// (tile.h, TileGroup).
+    /// it or is building it (with the tiles of its group below a tile that
+    /// no thread has or builds, where k_group_levels makes groups), from the
+    /// level this thread keeps for it and its neighbours (StartLevels).
     std::shared_ptr<const CachedTile> tile(const NodeId& root) {
         const auto group = [&] {
             std::vector<detail::TileKey> keys;
-            if (root.level == 0) {
-                std::call_once(chunks_built, [&] {
-                    chunks = std::make_unique<detail::FaceChunks>(topo, detail::k_face_chunk_size);
-                    chunk_built = std::make_unique<std::atomic<bool>[]>(chunks->chunk_count());
-                    chunk_bytes.store(chunks->owned_bytes() + chunks->chunk_count() * sizeof(std::atomic<bool>), std::memory_order_relaxed);
-                });
-                // A chunk built before lost this tile to eviction: it is
-                // rebuilt alone, as the chunk's other evicted tiles are
-                // rarely asked for again before they would be evicted anew
-                // (docs/benchmarks.md, "Rebuilding evicted tiles alone").
-                if (chunk_built[chunks->chunk_index(root.face)].exchange(true, std::memory_order_relaxed)) return keys;
-                const auto [begin, end] = chunks->chunk_of(root.face);
-                for (const std::uint32_t* f = begin; f != end; ++f) keys.push_back({id, root_node(*f)});
-            } else {
+            if (root.level > 0)
                 for (const NodeId& r : detail::tile_group_of(root)) keys.push_back({id, r});
-            }
             return keys;
         };
         const auto build = [&](const std::vector<detail::TileKey>& claimed) {
             std::vector<NodeId> roots;
             for (const detail::TileKey& k : claimed) roots.push_back(k.root);
-            std::unique_ptr<detail::LevelBelow> own_band;  // outlives `start`, which may read it
-            std::unique_ptr<detail::TileGroup> start;
+            // Tiles start from a level this thread keeps for their neighbours:
+            // a base triangle's from its chunk's level 1, a tile below a tile
+            // from the level below the parent's deepest one (the parent is
+            // rebuilt in turn if it was evicted: values never depend on the
+            // cache).
+            StartLevels* kept = nullptr;
+            StartLevels::Slot* slot = nullptr;
             if (root.level == 0) {
-                std::vector<std::uint32_t> faces;
-                for (const NodeId& r : roots) faces.push_back(r.face);
-                std::sort(faces.begin(), faces.end());
-                start = std::make_unique<detail::TileGroup>(context, faces.data(), faces.size());
+                const auto [begin, end] = chunks_of_faces().chunk_of(root.face);
+                kept = &StartLevels::chunk_levels();
+                slot = &kept->of(id, root_node(*begin), front_tally, [&, begin = begin, end = end] {
+                    return detail::chunk_level(context, begin, static_cast<std::size_t>(end - begin));
+                });
             } else {
-                // Tiles below a tile start from the level below the parent's
-                // deepest one, which this thread keeps for recent parents (the
-                // parent is rebuilt in turn if it was evicted: values never
-                // depend on the cache).
                 const NodeId parent_root = detail::parent_tile_root(root);
                 const std::shared_ptr<const CachedTile> parent = tile(parent_root);
-                BelowParents& below = BelowParents::mine();
-                BelowParents::Slot& slot = below.of(id, parent_root, parent->tile, front_tally);
-                if (BelowParents::worth_finishing(slot)) {
-                    below.make_room(slot);
-                    start = std::make_unique<detail::TileGroup>(context, *slot.level, roots);
-                } else {
-                    own_band = std::make_unique<detail::LevelBelow>(detail::band_of_roots(slot.level->patch(), roots));
-                    start = std::make_unique<detail::TileGroup>(context, *own_band, roots);
-                }
-                below.started(slot);
+                kept = &StartLevels::below_parents();
+                slot = &kept->of(id, parent_root, front_tally, [&] { return parent->tile.below_deepest(); });
             }
+            std::unique_ptr<detail::LevelBelow> own_band;  // outlives `start`, which may read it
+            std::unique_ptr<detail::TileGroup> start;
+            if (kept->worth_finishing(*slot)) {
+                kept->make_room(*slot);
+                start = std::make_unique<detail::TileGroup>(context, *slot->level, roots);
+            } else {
+                own_band = std::make_unique<detail::LevelBelow>(detail::band_of_roots(slot->level->patch(), roots));
+                start = std::make_unique<detail::TileGroup>(context, *own_band, roots);
+            }
+            kept->started(*slot);
             std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
             for (const NodeId& r : roots) {
                 auto t = std::make_shared<const CachedTile>(context, r, *start);
@@ -364,10 +372,17 @@ public:
     detail::BaseTopology topo;
     detail::TileContext context;
     detail::RootRecords roots;
-    /// Base faces by chunk, made when the first base triangle's tile is.
+    /// Base faces by chunk (the faces whose tiles start from one level),
+    /// made when the first base triangle's tile is.
+    const detail::FaceChunks& chunks_of_faces() {
+        std::call_once(chunks_built, [&] {
+            chunks = std::make_unique<detail::FaceChunks>(topo, detail::k_face_chunk_size);
+            chunk_bytes.store(chunks->owned_bytes(), std::memory_order_relaxed);
+        });
+        return *chunks;
+    }
     std::once_flag chunks_built;
     std::unique_ptr<detail::FaceChunks> chunks;
-    std::unique_ptr<std::atomic<bool>[]> chunk_built;  ///< per chunk: its tiles were built once
     std::atomic<std::size_t> chunk_bytes{0};  ///< for counters(), which may run meanwhile
     std::shared_ptr<TileCache> cache;
     detail::TileCacheImpl& tiles;

@@ -100,24 +100,31 @@ std::vector<NodeId> tile_group_of(const NodeId& root) {
 
 namespace {
 
-/// The triangles of `p` below the roots (one face and level), ascending. Its
+/// The triangles of `p` below the roots (one level), ascending. Its
 /// triangles are in the hierarchy's order (patch.h), so each root's
 /// descendants are a contiguous run, found by binary search (a scan of the
 /// whole patch per group was 1.5% of a close-up's instructions).
 std::vector<std::uint32_t> triangles_below(const Patch& p, const std::vector<NodeId>& roots) {
-    const std::uint32_t face = roots.front().face;
-    std::vector<std::pair<std::uint64_t, std::uint64_t>> spans;
+    struct Span {
+        std::uint32_t face;
+        std::uint64_t first, last;
+        bool operator<(const Span& o) const { return face != o.face ? face < o.face : first < o.first; }
+    };
+    std::vector<Span> spans;
     spans.reserve(roots.size());
-    for (const NodeId& r : roots) spans.push_back(depth_first_span(r));
+    for (const NodeId& r : roots) {
+        const auto [first, last] = depth_first_span(r);
+        spans.push_back({r.face, first, last});
+    }
     std::sort(spans.begin(), spans.end());
     const std::vector<PatchTriangle>& tris = p.tris;
-    const auto before = [&](const PatchTriangle& t, std::uint64_t key) {
-        return t.id.face != face ? t.id.face < face : depth_first_key(t.id) < key;
-    };
     std::vector<std::uint32_t> region;
-    for (const auto& [first, last] : spans) {
-        const auto from = std::lower_bound(tris.begin(), tris.end(), first, before);
-        const auto to = std::lower_bound(from, tris.end(), last, before);
+    for (const Span& span : spans) {
+        const auto before = [&](const PatchTriangle& t, std::uint64_t key) {
+            return t.id.face != span.face ? t.id.face < span.face : depth_first_key(t.id) < key;
+        };
+        const auto from = std::lower_bound(tris.begin(), tris.end(), span.first, before);
+        const auto to = std::lower_bound(from, tris.end(), span.last, before);
         for (auto it = from; it != to; ++it) region.push_back(static_cast<std::uint32_t>(it - tris.begin()));
     }
     return region;
@@ -125,44 +132,22 @@ std::vector<std::uint32_t> triangles_below(const Patch& p, const std::vector<Nod
 
 }  // namespace
 
-TileGroup::TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count)
-    : tiles_(count), owns_level_(true), faces_(faces, faces + count) {
+Patch chunk_level(const TileContext& ctx, const std::uint32_t* faces, std::size_t count) {
     const BuildTimer timer(ctx.build_ns);
     const auto in_chunk = [&](const NodeId& id) { return std::binary_search(faces, faces + count, id.face); };
     Patch base = base_patch(ctx.topo, faces, count);
     base.finish(ctx.topo, ctx.scheme);
     if (ctx.roots) ctx.roots->lend_normals(base);
     Flags kept;
-    own_level_ = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
-    own_level_.keep_only(kept);
-    finish_for_records(ctx, own_level_, in_chunk, own_next_);
-    own_memo_ = std::make_unique<ShadingMemo>(own_level_);
-    level_ = &own_level_;
-    next_ = &own_next_;
-    memo_ = own_memo_.get();
-    // Each face's triangles, in ascending order (a counting sort).
-    face_tri_offsets_.assign(count + 1, 0);
-    std::vector<std::uint32_t> position(own_level_.tris.size(), UINT32_MAX);
-    for (std::uint32_t t = 0; t < own_level_.tris.size(); ++t) {
-        const auto it = std::lower_bound(faces_.begin(), faces_.end(), own_level_.tris[t].id.face);
-        if (it == faces_.end() || *it != own_level_.tris[t].id.face) continue;
-        position[t] = static_cast<std::uint32_t>(it - faces_.begin());
-        ++face_tri_offsets_[position[t] + 1];
-    }
-    for (std::size_t k = 0; k < count; ++k) face_tri_offsets_[k + 1] += face_tri_offsets_[k];
-    face_tris_.resize(face_tri_offsets_.back());
-    std::vector<std::uint32_t> fill(face_tri_offsets_.begin(), face_tri_offsets_.end() - 1);
-    for (std::uint32_t t = 0; t < own_level_.tris.size(); ++t)
-        if (position[t] != UINT32_MAX) face_tris_[fill[position[t]]++] = t;
+    Patch level = base.subdivide_band(ctx.topo, ctx.scheme, in_chunk, kept);
+    base.give_back_derived();  // its arrays serve the next patch this thread finishes
+    level.keep_only(kept);
+    level.build_incidence();  // band_of_roots cuts through them
+    return level;
 }
 
 std::vector<std::uint32_t> TileGroup::triangles_of(const NodeId& root) const {
-    if (root.level > 0) return triangles_below(*level_, {root});
-    const auto it = std::lower_bound(faces_.begin(), faces_.end(), root.face);
-    if (it == faces_.end() || *it != root.face)
-        throw std::logic_error("subdivtrace tile: a base triangle's tile built from a group without its face");
-    const std::size_t k = static_cast<std::size_t>(it - faces_.begin());
-    return {face_tris_.begin() + face_tri_offsets_[k], face_tris_.begin() + face_tri_offsets_[k + 1]};
+    return triangles_below(*level_, {root});
 }
 
 Patch band_of_roots(const Patch& below_parent, const std::vector<NodeId>& roots) {
@@ -211,17 +196,12 @@ std::size_t LevelBelow::owned_bytes() const {
     return bytes;
 }
 
-TileGroup::TileGroup(const TileContext& ctx, LevelBelow& below, const std::vector<NodeId>& roots)
-    : tiles_(roots.size()) {
+TileGroup::TileGroup(const TileContext& ctx, LevelBelow& below, const std::vector<NodeId>& roots) {
     const BuildTimer timer(ctx.build_ns);
     below.prepare(ctx, triangles_below(below.level_, roots));
     level_ = &below.level_;
     next_ = &below.next_;
     memo_ = below.memo_.get();
-}
-
-TileGroup::~TileGroup() {
-    if (owns_level_) own_level_.give_back_derived();  // its arrays serve the next patch this thread finishes
 }
 
 Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
@@ -233,19 +213,13 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     // The frontier a lone tile would keep: its triangles and their border,
     // without rings and edges (a copy each: a patch shared by the group
     // outlived the tiles that were charged for it once some were evicted).
-    // A group of one is that band already, in the same order: taken whole.
     if (needs_frontier(1)) {
-        if (group.tiles_ == 1 && group.owns_level_) {
-            frontier_ = std::make_unique<Patch>(std::move(q));
-            frontier_->drop_derived();
-        } else {
-            frontier_ = std::make_unique<Patch>(Patch::copy_of(q, q.band_around(tile_tris)));
-            // Kept for the tile's life: without the room copy_of reserves
-            // for a border's worst case (about 1.6x the vertices a band
-            // has). Its edge names stay: the next level would name them again.
-            frontier_->verts.shrink_to_fit();
-            frontier_->draw.shrink_to_fit();
-        }
+        frontier_ = std::make_unique<Patch>(Patch::copy_of(q, q.band_around(tile_tris)));
+        // Kept for the tile's life: without the room copy_of reserves for a
+        // border's worst case (about 1.6x the vertices a band has). Its edge
+        // names stay: the next level would name them again.
+        frontier_->verts.shrink_to_fit();
+        frontier_->draw.shrink_to_fit();
     }
     ready_.store(1, std::memory_order_release);
 }

@@ -62,7 +62,7 @@ struct TileContext {
 /// keeps it for the parent's child tiles (hierarchy.cpp). Their later
 /// levels start from bands cut from it (band_of_roots); their first levels
 /// are its own triangles, so it is finished once (once a few tile groups
-/// have started from it, hierarchy.cpp's BelowParents::worth_finishing;
+/// have started from it, hierarchy.cpp's StartLevels::worth_finishing;
 /// the first ones cut their own band), and each child tile then computes
 /// only the next level's points around its triangles that no sibling computed before, and
 /// shares the siblings' normals (every value is summed in canonical order,
@@ -72,8 +72,8 @@ struct TileContext {
 /// has about 400, and computed each border vertex's normals once per band.
 class LevelBelow {
 public:
-    /// `below`: a level below a parent tile (with incident lists, for
-    /// band_of_roots), or a child's band cut from one.
+    /// `below`: a level below a parent tile or a chunk's level 1 (with
+    /// incident lists, for band_of_roots), or a band cut from either.
     explicit LevelBelow(Patch below);
     ~LevelBelow();
     LevelBelow(const LevelBelow&) = delete;
@@ -100,23 +100,18 @@ private:
     std::unique_ptr<ShadingMemo> memo_;
 };
 
-/// The first level of a group of tiles, computed once for all of them: the
-/// level's triangles of every tile in the group with their border, finished,
-/// and the next level's points their records read. A group is a chunk of
-/// base triangles (face_chunks.h), or tiles below one tile (tile_group_of),
-/// whose first level is the parent's LevelBelow.
-/// Each tile takes its records and its frontier (its own triangles and their
-/// border) from it, with the same bits it would compute alone (every value is summed in canonical order): a lone
-/// tile is a group of one.
+/// The first level of a group of tiles: a LevelBelow, finished (or the
+/// group's own band cut from one), and the next level's points their records
+/// read. Each tile takes its records and its frontier (its own triangles
+/// and their border) from it, with the same bits it would compute alone
+/// (every value is summed in canonical order): a lone tile is a group of one.
 class TileGroup {
 public:
-    /// Base triangles' tiles: `count` faces, ascending.
-    TileGroup(const TileContext& ctx, const std::uint32_t* faces, std::size_t count);
-    /// Tiles rooted at `roots` (one face and level), nodes of the deepest
-    /// level of the tile whose below_deepest() `below` holds. `below` must
+    /// Tiles rooted at `roots`: base triangles of the chunk whose
+    /// chunk_level() `below` holds, or nodes of the deepest level of the tile
+    /// whose below_deepest() it holds (one face and level). `below` must
     /// outlive the group.
     TileGroup(const TileContext& ctx, LevelBelow& below, const std::vector<NodeId>& roots);
-    ~TileGroup();
     TileGroup(const TileGroup&) = delete;
     TileGroup& operator=(const TileGroup&) = delete;
 
@@ -124,24 +119,19 @@ private:
     friend class Tile;
     /// The triangles of the level in tile `root` (ascending).
     std::vector<std::uint32_t> triangles_of(const NodeId& root) const;
-    /// Tiles it is for: a lone base tile takes the level as its frontier (Tile::Tile).
-    std::size_t tiles_;
-    /// The level, the next level's points and the shading memo: the group's
-    /// own (base triangles), or a LevelBelow's.
+    /// The LevelBelow's level, the next level's points and the shading memo.
     Patch* level_ = nullptr;
     const Patch* next_ = nullptr;
     ShadingMemo* memo_ = nullptr;
-    bool owns_level_ = false;
-    Patch own_level_;
-    Patch own_next_;
-    std::unique_ptr<ShadingMemo> own_memo_;
-    /// A chunk's faces (ascending) and, per face, its triangles in the level
-    /// (CSR): each base triangle's tile finds its own without scanning the
-    /// chunk's level, which made a chunk's tiles cost its size squared.
-    std::vector<std::uint32_t> faces_;
-    std::vector<std::uint32_t> face_tri_offsets_;
-    std::vector<std::uint32_t> face_tris_;
 };
+
+/// Level 1 of the `count` base faces at `faces` (ascending) with their
+/// border, with incident lists, not finished: where their tiles start, as
+/// child tiles start from the level below their parent (a LevelBelow). A
+/// chunk of neighbouring faces (face_chunks.h) shares one: its level-0
+/// patch and that patch's split are computed once for up to 16 tiles, and
+/// each tile is built when a ray asks for it, not with its chunk.
+Patch chunk_level(const TileContext& ctx, const std::uint32_t* faces, std::size_t count);
 
 /// Tiles below another may be built in groups: the 4^k_group_levels tile
 /// roots under one node k_group_levels above them (all in one tile's deepest
@@ -307,7 +297,7 @@ private:
     bool in_tile(const NodeId& id) const;
     /// Its deepest level with its border (not finished): the frontier,
     /// which it gives up (below_deepest's caller keeps what it derives from
-    /// it for all the children, hierarchy.cpp's BelowParents, and kept,
+    /// it for all the children, hierarchy.cpp's StartLevels, and kept,
     /// frontiers were a third of the blob5k close-up's cache, 9 kB a tile,
     /// more than its records), or derived again (band_at) once it is given up.
     Patch take_deepest_band() const;

@@ -1,8 +1,9 @@
-// Tiles are built in groups (tile.h, TileGroup): base triangles' tiles by
-// chunks of connected faces (face_chunks.h), tiles below a tile by the few
-// under one node. A tile built with its group must hold exactly the bits it
-// holds when built alone, or the two sides of an edge between tiles of
-// different groups would not meet.
+// Tiles start from a level shared with their neighbours (tile.h, LevelBelow):
+// base triangles' tiles from their chunk's level 1 (chunks of connected
+// faces, face_chunks.h), tiles below a tile from the level below their
+// parent's deepest, after siblings finished it. A tile built so must hold
+// exactly the bits it holds when built alone, or the two sides of an edge
+// between tiles built from different levels would not meet.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -131,12 +132,21 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 });
             };
             for (std::uint32_t face = 0; face < mesh.triangles.size(); face += 3) {
+                // Alone: from the level 1 of its own face. With its chunk:
+                // from the chunk's level 1, finished by the tiles of the
+                // chunk's other faces first.
                 const auto [begin, end] = chunks.chunk_of(face);
-                TileGroup alone_group(ctx, &face, 1);
-                TileGroup whole_chunk(ctx, begin, static_cast<std::size_t>(end - begin));
                 const NodeId root = root_node(face);
+                LevelBelow own_level(chunk_level(ctx, &face, 1));
+                TileGroup alone_group(ctx, own_level, {root});
+                LevelBelow chunk(chunk_level(ctx, begin, static_cast<std::size_t>(end - begin)));
+                std::vector<NodeId> chunk_others;
+                for (const std::uint32_t* f = begin; f != end; ++f)
+                    if (*f != face) chunk_others.push_back(root_node(*f));
+                const TileGroup others_first(ctx, chunk, chunk_others);
+                TileGroup from_chunk(ctx, chunk, {root});
                 const Tile alone(ctx, root, alone_group);
-                const Tile with_chunk(ctx, root, whole_chunk);
+                const Tile with_chunk(ctx, root, from_chunk);
                 parent = &alone;
                 compare(alone, with_chunk, root, 3);
                 // Tiles below: alone, and with their group, from either tile's

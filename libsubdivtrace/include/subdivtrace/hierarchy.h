@@ -58,8 +58,8 @@ struct NodeRecord {
 
 struct HierarchyCounters {
     std::uint64_t nodes_built = 0;  ///< node records computed (tiles x their nodes)
-    /// Tiles built: the cache's misses, plus the tiles built alongside a
-    /// base triangle's (its chunk's, docs/tracer.md).
+    /// Tiles built: the cache's misses (each tile is built when a ray asks
+    /// for it, docs/tracer.md).
     std::uint64_t tiles_built = 0;
     /// Seconds spent building tiles, summed over threads: a tile's own work
     /// (its construction, the levels it builds on first use, the frontier a
