@@ -29,7 +29,7 @@ namespace detail {
 struct FrontTally {
     std::atomic<std::size_t> fronts{0};      ///< threads holding at least one of its tiles
     std::atomic<std::size_t> tile_bytes{0};  ///< tiles held, each front counting its own
-    std::atomic<std::size_t> below_bytes{0}; ///< levels below parent tiles held (StartLevels)
+    std::atomic<std::size_t> below_bytes{0}; ///< levels tiles start from held (BelowParents, ChunkLevels)
 };
 
 /// A tile as the cache holds it, with the bytes it is charged (computed once,
@@ -116,31 +116,23 @@ struct Front {
     }
 };
 
-/// The levels tiles start from (tile.h, LevelBelow), kept by each thread
-/// for the next tiles that start there. Two kinds, one instance each:
-/// - the level below a parent tile's deepest one (Tile::below_deepest), for
-///   the parent's next children: the rays that reach one child mostly
-///   reach its siblings soon after, on the same thread, and the parent tile
-///   does not keep it (it is about 3x the rest of the tile). The bunny
-///   close-up computed 1,016 for 13 k child tiles with 32 slots (4,223 with
-///   8, 3,003 with 16, 726 with 64): a row of pixels crosses about that
-///   many parents before the next row comes back to them;
-/// - a chunk's level 1 (chunk_level), for its base triangles' tiles: each
-///   is built when a ray asks for it, where a chunk's 16 tiles used to be
-///   built together (the fine vase built 23,918 tiles for the 15,697 its
-///   rays asked for, and filled its 32 MB cache with them).
-/// Keyed like the front, by hierarchy id and tile root (a chunk's: its
-/// first face's): whichever thread computed a level, its bits are the same.
-/// Its bytes count apart from the fronts' (HierarchyCounters::below_bytes).
-struct StartLevels {
+/// The level below a parent tile's deepest one (Tile::below_deepest), kept
+/// by each thread for the parent's next children (tile.h, LevelBelow): the
+/// rays that reach one child mostly reach its siblings soon after, on the
+/// same thread, and the parent tile does not keep it (it is about 3x the
+/// rest of the tile). The bunny close-up computed 1,016 for 13 k child
+/// tiles with 32 slots (4,223 with 8, 3,003 with 16, 726 with 64): a row of
+/// pixels crosses about that many parents before the next row comes back
+/// to them. Keyed like the front, by hierarchy id and tile root: whichever
+/// build of the parent computed it, its bits are the same. Its bytes count
+/// apart from the fronts' (HierarchyCounters::below_bytes).
+struct BelowParents {
+    static constexpr std::size_t k_slots = 32;
     /// Levels kept finished at once, the most recently built from: a
     /// finished level holds about 4x its bytes.
-    const std::size_t max_finished;
-    /// Tile groups that start from a level's own bands before it is
-    /// finished (worth_finishing).
-    const std::uint32_t groups_before_finishing;
-    StartLevels(std::size_t slot_count, std::size_t max_finished_, std::uint32_t groups_before_finishing_)
-        : max_finished(max_finished_), groups_before_finishing(groups_before_finishing_), slots(slot_count) {}
+    static constexpr std::size_t k_finished = 8;
+    /// Groups started from a level's own bands before it is finished.
+    static constexpr std::uint32_t k_groups_before_finishing = 4;
     struct Slot {
         std::uint64_t owner = 0;
         NodeId root;
@@ -150,7 +142,7 @@ struct StartLevels {
         std::uint64_t last_built = 0;  ///< when a tile group last started from it
         std::uint32_t groups_started = 0;  ///< tile groups started from it since it was last unfinished
     };
-    std::vector<Slot> slots;
+    std::array<Slot, k_slots> slots;
     std::size_t next = 0;  ///< the slot replaced next (round robin)
     std::uint64_t groups = 0;  ///< tile groups started so far
 
@@ -166,16 +158,15 @@ struct StartLevels {
         return s ? s->level.get() : nullptr;
     }
 
-    /// The slot holding the level keyed `root`, computed by `compute()` if
+    /// The slot holding the level below tile `root`'s deepest, computed if
     /// this thread has it not.
-    template <class Compute>
-    Slot& of(std::uint64_t owner, const NodeId& root, const std::shared_ptr<FrontTally>& tally,
-             Compute compute) {
+    Slot& of(std::uint64_t owner, const NodeId& root, const detail::Tile& parent,
+             const std::shared_ptr<FrontTally>& tally) {
         if (Slot* found = slot_of(owner, root)) return *found;
         Slot& s = slots[next];
-        next = (next + 1) % slots.size();
+        next = (next + 1) % k_slots;
         release(s);
-        s.level = std::make_unique<detail::LevelBelow>(compute());
+        s.level = std::make_unique<detail::LevelBelow>(parent.below_deepest());
         s.owner = owner;
         s.root = root;
         s.bytes = s.level->owned_bytes();
@@ -189,12 +180,12 @@ struct StartLevels {
     /// tiles are often its only ones (a silhouette, another object's
     /// shadow ray), and finishing the whole level for one or two of them
     /// cost more than it saved (POV-Ray's twenty bunnies: 1.07x the CPU).
-    bool worth_finishing(const Slot& s) const {
-        return s.level->finished() || s.groups_started >= groups_before_finishing;
+    static bool worth_finishing(const Slot& s) {
+        return s.level->finished() || s.groups_started >= k_groups_before_finishing;
     }
 
     /// Before a tile group starts from slot `s`'s level itself: if it is
-    /// not finished and max_finished others are, the one least recently
+    /// not finished and k_finished others are, the one least recently
     /// started from is unfinished.
     void make_room(const Slot& s) {
         if (s.level->finished()) return;
@@ -205,7 +196,7 @@ struct StartLevels {
             ++finished;
             if (!oldest || other.last_built < oldest->last_built) oldest = &other;
         }
-        if (finished < max_finished || !oldest) return;
+        if (finished < k_finished || !oldest) return;
         oldest->level->unfinish();
         oldest->groups_started = 0;  // finished again only if it serves more groups
         recharge(*oldest);
@@ -234,24 +225,96 @@ struct StartLevels {
         s.level.reset();
     }
 
-    ~StartLevels() {
+    ~BelowParents() {
         for (Slot& s : slots) release(s);
     }
 
-    /// This thread's levels below parent tiles, keyed by the parent's root.
-    static StartLevels& below_parents() {
-        thread_local StartLevels below(32, 8, 4);
+    /// This thread's.
+    static BelowParents& mine() {
+        thread_local BelowParents below;
         return below;
     }
-    /// This thread's chunks' level 1 (detail::chunk_level), keyed by the
-    /// root of the chunk's first face: where base triangles' tiles start.
-    /// Finished at once and kept finished: a chunk's tiles are its faces',
-    /// not a parent's few children, and rows of pixels cross many chunks
-    /// (with 8 kept finished, the fine vase finished each level 2.5 times).
-    static StartLevels& chunk_levels() {
-        thread_local StartLevels chunks(32, 16, 0);
-        return chunks;
+};
+
+/// A chunk's level 1 (detail::chunk_level), where its base triangles'
+/// tiles start, as every thread shares it: held by ChunkLevels and by the
+/// builds that use it, and charged to its hierarchy's tally
+/// (HierarchyCounters::below_bytes) while it lives.
+struct ChunkStart {
+    explicit ChunkStart(std::shared_ptr<FrontTally> tally_) : tally(std::move(tally_)) {}
+    ~ChunkStart() { tally->below_bytes.fetch_sub(bytes, std::memory_order_relaxed); }
+    ChunkStart(const ChunkStart&) = delete;
+    ChunkStart& operator=(const ChunkStart&) = delete;
+    /// Held while the level is computed and while a tile is built from it
+    /// (a build finishes it and adds the next level's points it reads).
+    std::mutex lock;
+    std::unique_ptr<detail::LevelBelow> level;
+    std::size_t bytes = 0;  ///< charged to the tally (under `lock`)
+    std::shared_ptr<FrontTally> tally;
+
+    /// Charges what the level holds now (under `lock`).
+    void recharge() {
+        const std::size_t now = level ? level->owned_bytes() : 0;
+        tally->below_bytes.fetch_add(now, std::memory_order_relaxed);
+        tally->below_bytes.fetch_sub(bytes, std::memory_order_relaxed);
+        bytes = now;
     }
+};
+
+/// The chunks' levels most recently started from, of every hierarchy, for
+/// all threads: a chunk's tiles are asked for by whichever thread's rays
+/// reach its faces first, and a level kept per thread was computed and
+/// finished once by each (the blob5k close-up on 2 threads took 1.04x the
+/// CPU of building a chunk's 16 tiles at once, and 3.7 MiB more).
+class ChunkLevels {
+public:
+    /// Levels kept at once, all finished (a finished level of 16 faces
+    /// holds about 200 kB). Rows of pixels cross many chunks before the
+    /// next rows come back to them: the fine vase (320x240, one thread)
+    /// took 5.53 G instructions with 16, 5.09 G with 32, 5.08 G with 64.
+    static constexpr std::size_t k_capacity = 32;
+
+    /// Chunk `chunk` of hierarchy `owner`, made (without its level) if none is kept.
+    std::shared_ptr<ChunkStart> get(std::uint64_t owner, std::uint32_t chunk,
+                                    const std::shared_ptr<FrontTally>& tally) {
+        const std::lock_guard<std::mutex> hold(mutex_);
+        ++clock_;
+        Slot* oldest = nullptr;
+        for (Slot& s : slots_) {
+            if (s.owner == owner && s.chunk == chunk) {
+                s.last_used = clock_;
+                return s.start;
+            }
+            if (!oldest || s.last_used < oldest->last_used) oldest = &s;
+        }
+        Slot fresh{owner, chunk, clock_, std::make_shared<ChunkStart>(tally)};
+        if (slots_.size() < k_capacity) slots_.push_back(fresh);
+        else *oldest = fresh;  // the replaced level goes once no build holds it
+        return fresh.start;
+    }
+
+    /// Drops the levels of a hierarchy nobody can ask for again.
+    void erase_owner(std::uint64_t owner) {
+        const std::lock_guard<std::mutex> hold(mutex_);
+        slots_.erase(std::remove_if(slots_.begin(), slots_.end(), [&](const Slot& s) { return s.owner == owner; }),
+                     slots_.end());
+    }
+
+    static ChunkLevels& instance() {
+        static ChunkLevels levels;
+        return levels;
+    }
+
+private:
+    struct Slot {
+        std::uint64_t owner;
+        std::uint32_t chunk;
+        std::uint64_t last_used;
+        std::shared_ptr<ChunkStart> start;
+    };
+    std::mutex mutex_;
+    std::vector<Slot> slots_;
+    std::uint64_t clock_ = 0;
 };
 
 }  // namespace
@@ -277,7 +340,7 @@ public:
             // Cut from the level below the parent where this thread has it
             // (the group's own start, cheaper than splitting the parent's band).
             const NodeId parent_root = detail::parent_tile_root(root);
-            if (const detail::LevelBelow* below = StartLevels::below_parents().find(id, parent_root))
+            if (const detail::LevelBelow* below = BelowParents::mine().find(id, parent_root))
                 return detail::band_of_roots(below->patch(), {root});
             return tile(parent_root)->tile.band_of_child(root);
         };
@@ -288,6 +351,7 @@ public:
         // The tiles of a surface nobody can ask for again leave the shared
         // cache now rather than when they age out.
         tiles.erase_owner(share);
+        ChunkLevels::instance().erase_owner(id);
         tiles.surfaces.fetch_sub(1, std::memory_order_relaxed);
     }
 
@@ -310,7 +374,8 @@ public:
     /// The tile from the shared cache, built by this thread if no other has
     /// it or is building it (with the tiles of its group below a tile that
     /// no thread has or builds, where k_group_levels makes groups), from the
-    /// level this thread keeps for it and its neighbours (StartLevels).
+    /// level it starts from (a chunk's, ChunkLevels; the level below its
+    /// parent's deepest, BelowParents).
     std::shared_ptr<const CachedTile> tile(const NodeId& root) {
         const auto group = [&] {
             std::vector<detail::TileKey> keys;
@@ -321,42 +386,50 @@ public:
         const auto build = [&](const std::vector<detail::TileKey>& claimed) {
             std::vector<NodeId> roots;
             for (const detail::TileKey& k : claimed) roots.push_back(k.root);
-            // Tiles start from a level this thread keeps for their neighbours:
-            // a base triangle's from its chunk's level 1, a tile below a tile
-            // from the level below the parent's deepest one (the parent is
-            // rebuilt in turn if it was evicted: values never depend on the
-            // cache).
-            StartLevels* kept = nullptr;
-            StartLevels::Slot* slot = nullptr;
+            const auto build_from = [&](detail::TileGroup& start) {
+                std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
+                for (const NodeId& r : roots) {
+                    auto t = std::make_shared<const CachedTile>(context, r, start);
+                    built.emplace_back(t, t->bytes);
+                }
+                tiles_built.fetch_add(built.size(), std::memory_order_relaxed);
+                return built;
+            };
             if (root.level == 0) {
-                const auto [begin, end] = chunks_of_faces().chunk_of(root.face);
-                kept = &StartLevels::chunk_levels();
-                slot = &kept->of(id, root_node(*begin), front_tally, [&, begin = begin, end = end] {
-                    return detail::chunk_level(context, begin, static_cast<std::size_t>(end - begin));
-                });
-            } else {
-                const NodeId parent_root = detail::parent_tile_root(root);
-                const std::shared_ptr<const CachedTile> parent = tile(parent_root);
-                kept = &StartLevels::below_parents();
-                slot = &kept->of(id, parent_root, front_tally, [&] { return parent->tile.below_deepest(); });
+                // From its chunk's level 1, which every thread shares.
+                const detail::FaceChunks& chunks = chunks_of_faces();
+                const std::shared_ptr<ChunkStart> chunk =
+                    ChunkLevels::instance().get(id, chunks.chunk_index(root.face), front_tally);
+                const std::lock_guard<std::mutex> hold(chunk->lock);
+                if (!chunk->level) {
+                    const auto [begin, end] = chunks.chunk_of(root.face);
+                    chunk->level = std::make_unique<detail::LevelBelow>(
+                        detail::chunk_level(context, begin, static_cast<std::size_t>(end - begin)));
+                }
+                detail::TileGroup start(context, *chunk->level, roots);
+                auto built = build_from(start);
+                chunk->recharge();
+                return built;
             }
+            // A tile below a tile starts from the level below the parent's
+            // deepest one, which this thread keeps for recent parents (the
+            // parent is rebuilt in turn if it was evicted: values never
+            // depend on the cache).
+            const NodeId parent_root = detail::parent_tile_root(root);
+            const std::shared_ptr<const CachedTile> parent = tile(parent_root);
+            BelowParents& below = BelowParents::mine();
+            BelowParents::Slot& slot = below.of(id, parent_root, parent->tile, front_tally);
             std::unique_ptr<detail::LevelBelow> own_band;  // outlives `start`, which may read it
             std::unique_ptr<detail::TileGroup> start;
-            if (kept->worth_finishing(*slot)) {
-                kept->make_room(*slot);
-                start = std::make_unique<detail::TileGroup>(context, *slot->level, roots);
+            if (BelowParents::worth_finishing(slot)) {
+                below.make_room(slot);
+                start = std::make_unique<detail::TileGroup>(context, *slot.level, roots);
             } else {
-                own_band = std::make_unique<detail::LevelBelow>(detail::band_of_roots(slot->level->patch(), roots));
+                own_band = std::make_unique<detail::LevelBelow>(detail::band_of_roots(slot.level->patch(), roots));
                 start = std::make_unique<detail::TileGroup>(context, *own_band, roots);
             }
-            kept->started(*slot);
-            std::vector<std::pair<std::shared_ptr<const CachedTile>, std::size_t>> built;
-            for (const NodeId& r : roots) {
-                auto t = std::make_shared<const CachedTile>(context, r, *start);
-                built.emplace_back(t, t->bytes);
-            }
-            tiles_built.fetch_add(built.size(), std::memory_order_relaxed);
-            return built;
+            below.started(slot);
+            return build_from(*start);
         };
         return tiles.lookup_or_build_group(detail::TileKey{id, root}, share, group, build);
     }

@@ -62,7 +62,7 @@ struct TileContext {
 /// keeps it for the parent's child tiles (hierarchy.cpp). Their later
 /// levels start from bands cut from it (band_of_roots); their first levels
 /// are its own triangles, so it is finished once (once a few tile groups
-/// have started from it, hierarchy.cpp's StartLevels::worth_finishing;
+/// have started from it, hierarchy.cpp's BelowParents::worth_finishing;
 /// the first ones cut their own band), and each child tile then computes
 /// only the next level's points around its triangles that no sibling computed before, and
 /// shares the siblings' normals (every value is summed in canonical order,
@@ -297,7 +297,7 @@ private:
     bool in_tile(const NodeId& id) const;
     /// Its deepest level with its border (not finished): the frontier,
     /// which it gives up (below_deepest's caller keeps what it derives from
-    /// it for all the children, hierarchy.cpp's StartLevels, and kept,
+    /// it for all the children, hierarchy.cpp's BelowParents, and kept,
     /// frontiers were a third of the blob5k close-up's cache, 9 kB a tile,
     /// more than its records), or derived again (band_at) once it is given up.
     Patch take_deepest_band() const;
