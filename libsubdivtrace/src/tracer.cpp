@@ -540,16 +540,25 @@ struct Walk {
             }
             ch.hit = shell_entry(child_shells[c], ch.drawn, ch.t_entry);
         }
-        int order[4] = {0, 1, 2, 3};
-        std::sort(order, order + 4, [&](int x, int y) {
-            const double tx = children[x].hit ? children[x].t_entry : 1e300;
-            const double ty = children[y].hit ? children[y].t_entry : 1e300;
-            return tx < ty;
-        });
-        for (int k = 0; k < 4; ++k) {
+        // The children the ray enters, nearest first: an insertion sort,
+        // stable (children entered at the same distance keep their order).
+        int order[4];
+        double entry[4];
+        int entered = 0;
+        for (int c = 0; c < 4; ++c) {
+            if (!children[c].hit) continue;
+            const double t = children[c].t_entry;
+            int k = entered++;
+            for (; k > 0 && t < entry[k - 1]; --k) {
+                order[k] = order[k - 1];
+                entry[k] = entry[k - 1];
+            }
+            order[k] = c;
+            entry[k] = t;
+        }
+        for (int k = 0; k < entered; ++k) {
             const int c_entered = order[k];
             Child& ch = children[c_entered];
-            if (!ch.hit) break;
             if (mode == WalkMode::nearest && ch.t_entry > t_max) break;
             const bool snapped = !ch.drawn[0].alive || !ch.drawn[1].alive || !ch.drawn[2].alive;
             inherited.snap_depth = snapped ? snap_depth : 0.0;
