@@ -255,7 +255,7 @@ Patch Tile::band_at(int j) const {
     // and a border two rings wide suffices).
     Patch q;
     if (root_.level == 0) {
-        q = base_patch(ctx_->topo, &root_.face, 1);
+        q = chunk_level(*ctx_, &root_.face, 1);  // its face alone: level 1
     } else {
         if (!ctx_->child_start)
             throw std::logic_error("subdivtrace tile: a child tile's later levels need their start (TileContext::child_start)");
