@@ -313,8 +313,7 @@ private:
     /// Level j of the tile's triangles with their border, not finished
     /// (j <= the deepest level built, below the tile's deepest): from
     /// TileContext::child_start (or, for a base triangle, chunk_level of its
-    /// face alone), split
-    /// down to level j.
+    /// face alone), split down to level j.
     Patch band_at(int j) const;
     std::size_t index_in_level(const NodeId& id) const;
     std::size_t vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const;
