@@ -52,6 +52,8 @@ void release(std::vector<T>& v) {
 /// k_spare_bytes are freed, not kept.
 thread_local Patch spare;
 constexpr std::size_t k_spare_bytes = std::size_t{1} << 20;
+/// The most a thread's scratch tables keep between patches.
+constexpr std::size_t k_scratch_bytes = std::size_t{256} << 10;
 
 /// Gives `v` the spare's block if it has none.
 template <class T>
@@ -349,6 +351,10 @@ void Patch::name_edges(const BaseTopology& topo) {
             edge_names[3 * t + e] = (table[h].name << 1) | (crease ? 1u : 0u);
         }
     }
+    // A base chunk's table (4096 triangles: 512 kB) is not kept for the
+    // tiles' small patches after it: the thread that built the base records
+    // held it for the whole render.
+    if (table.size() * sizeof(Entry) > k_scratch_bytes) release(table);
 }
 
 void Patch::build_edges() {
