@@ -332,13 +332,16 @@ struct Walk {
         return ray_hits_shell(query, shell, s.options.shell_kind, t_entry);
     }
 
-    bool shell_entry(const Shell& shell, const DrawnCorner* drawn, double& t_entry) const {
-        if (mode == WalkMode::drawn || (drawn[0].alive && drawn[1].alive && drawn[2].alive))
-            return enters(shell, t_entry);
+    /// Whether the ray enters a child's shell; `kept[c]` is the parent's
+    /// corner that the child's corner c keeps (snapped or inherited, not its
+    /// own), or -1 for its own.
+    bool shell_entry(const Shell& shell, const DrawnCorner* parent, const std::int8_t* kept,
+                     double& t_entry) const {
+        if (mode == WalkMode::drawn || (kept[0] < 0 && kept[1] < 0 && kept[2] < 0)) return enters(shell, t_entry);
         // Snapped corners can lie outside the node's own shell: grow by them.
         Shell grown = shell;
         for (int c = 0; c < 3; ++c)
-            if (!drawn[c].alive) grown.grow_both(drawn[c].position);
+            if (kept[c] >= 0) grown.grow_both(parent[kept[c]].position);
         return ray_hits_shell(query, grown, s.options.shell_kind, t_entry);
     }
 
@@ -496,9 +499,11 @@ struct Walk {
         Shell grown = rec.shell;
         for (int c = 0; c < 3; ++c) grown.grow_both(drawn[c].position);
         const double snap_depth = std::max(from_parent.snap_depth, shell_depth(grown));
+        // What a child keeps of this node's corners; its drawn corners are
+        // filled only if the ray enters it (most children it misses).
         struct Child {
             NodeId id;
-            DrawnCorner drawn[3];
+            std::int8_t kept[3];  ///< per corner: this node's corner it keeps (not alive), or -1: its own
             bool exists[3];
             double t_entry;
             bool hit;
@@ -521,14 +526,9 @@ struct Walk {
                 const ChildCorner cc = map[k];
                 const bool own =
                     naive || (cc.is_edge ? refine[cc.index] : drawn[cc.index].alive);
-                if (own) {
-                    ch.drawn[k].alive = true;  // filled from its record if the ray enters it
-                } else if (!cc.is_edge) {
-                    ch.drawn[k] = drawn[cc.index];
-                } else {
-                    ch.drawn[k] = drawn[snap_to[cc.index]];
-                    ch.drawn[k].alive = false;
-                }
+                // Not its own: a corner of this node's that is not alive
+                // either, or the end of a frozen edge its midpoint snaps to.
+                ch.kept[k] = static_cast<std::int8_t>(own ? -1 : cc.is_edge ? snap_to[cc.index] : cc.index);
             }
             for (int k = 0; k < 3; ++k) {
                 const ChildCorner p = map[k], q = map[(k + 1) % 3];
@@ -538,7 +538,7 @@ struct Walk {
                 else if (!q.is_edge) ch.exists[k] = refine[p.index];
                 else ch.exists[k] = true;
             }
-            ch.hit = shell_entry(child_shells[c], ch.drawn, ch.t_entry);
+            ch.hit = shell_entry(child_shells[c], drawn, ch.kept, ch.t_entry);
         }
         // The children the ray enters, nearest first: an insertion sort,
         // stable (children entered at the same distance keep their order).
@@ -560,17 +560,23 @@ struct Walk {
             const int c_entered = order[k];
             Child& ch = children[c_entered];
             if (mode == WalkMode::nearest && ch.t_entry > t_max) break;
-            const bool snapped = !ch.drawn[0].alive || !ch.drawn[1].alive || !ch.drawn[2].alive;
+            const bool snapped = ch.kept[0] >= 0 || ch.kept[1] >= 0 || ch.kept[2] >= 0;
             inherited.snap_depth = snapped ? snap_depth : 0.0;
-            // Its own corners (the alive ones: every other is a parent's
-            // dead corner or a snapped one) come from its record; its shell
+            // Its own corners come from its record, the others are this
+            // node's (dead, where they were alive here: snapped); its shell
             // is the one tested above (the same bits), not decoded again.
             NodeRecord child_rec = s.hierarchy.node(ch.id, Hierarchy::Part::corners);
             child_rec.shell = child_shells[c_entered];
-            for (int c = 0; c < 3; ++c)
-                if (ch.drawn[c].alive)
-                    ch.drawn[c] = {child_rec.draw_position[c], ch.id, c, grid_domain(ch.id, c), true};
-            visit(ch.id, child_rec, ch.drawn, ch.exists, inherited);
+            DrawnCorner child_drawn[3];
+            for (int c = 0; c < 3; ++c) {
+                if (ch.kept[c] < 0) {
+                    child_drawn[c] = {child_rec.draw_position[c], ch.id, c, grid_domain(ch.id, c), true};
+                } else {
+                    child_drawn[c] = drawn[ch.kept[c]];
+                    child_drawn[c].alive = false;
+                }
+            }
+            visit(ch.id, child_rec, child_drawn, ch.exists, inherited);
         }
     }
 };
