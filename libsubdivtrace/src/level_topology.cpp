@@ -13,7 +13,8 @@ namespace subdivtrace {
 
 LevelTopology::LevelTopology(const std::vector<Vec3>& positions,
                              const std::vector<Triangle>& triangles,
-                             const std::vector<std::uint8_t>& crease_masks) {
+                             const std::vector<std::uint8_t>& crease_masks, bool ordered_rings)
+    : ordered_rings_(ordered_rings) {
     const std::size_t vertex_count = positions.size();
     const std::size_t face_count = triangles.size();
 
@@ -69,6 +70,7 @@ LevelTopology LevelTopology::refined(const LevelTopology& parent,
                                      const std::vector<Triangle>& children,
                                      const std::vector<std::uint8_t>& crease_masks) {
     LevelTopology topo;
+    topo.ordered_rings_ = parent.ordered_rings_;
     const auto old_count = static_cast<std::uint32_t>(parent_vertex_count);
     const std::uint32_t parent_edges = parent.edge_count();
     const std::size_t face_count = children.size();
@@ -196,6 +198,7 @@ void LevelTopology::build_vertex_data(std::size_t vertex_count,
         }
     }
 
+    if (!ordered_rings_) return;
     ring_offsets_.assign(vertex_count + 1, 0);
     ring_closed_.assign(vertex_count, 0);
     ring_regular_.assign(vertex_count, 0);

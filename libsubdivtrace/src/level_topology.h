@@ -4,6 +4,7 @@
 // and per-sector normals.
 
 #include <algorithm>
+#include <cassert>
 #include <cstdint>
 #include <vector>
 
@@ -31,15 +32,19 @@ public:
     };
 
     /// `crease_masks`: per triangle, bit e set if its edge e is a crease
-    /// (creases.h); empty for none.
+    /// (creases.h); empty for none. Without `ordered_rings` the vertices'
+    /// rings are not built (and the ring accessors below must not be called):
+    /// the normal scheme reads none, and ordering them was about a tenth of
+    /// its uniform subdivision.
     LevelTopology(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
-                  const std::vector<std::uint8_t>& crease_masks = {});
+                  const std::vector<std::uint8_t>& crease_masks = {}, bool ordered_rings = true);
 
     /// The topology of `parent`'s 1-to-4 split (uniform.h's layout: vertex
     /// V + e is the point of parent edge e, children 4t..4t+3) with the same
     /// result as the constructor above, edges derived from the parent's in
     /// linear time instead of sorted. `children` must be that split of
-    /// `parent_triangles`; `crease_masks` the children's.
+    /// `parent_triangles`; `crease_masks` the children's. It has rings where
+    /// the parent has.
     static LevelTopology refined(const LevelTopology& parent,
                                  const std::vector<Triangle>& parent_triangles,
                                  std::size_t parent_vertex_count,
@@ -47,6 +52,9 @@ public:
                                  const std::vector<std::uint8_t>& crease_masks);
     /// Whether refined() applies: every edge has at most two triangles.
     bool manifold_edges() const { return manifold_edges_; }
+    /// Whether the vertices' ordered rings were built (the constructor's
+    /// `ordered_rings`).
+    bool has_rings() const { return ordered_rings_; }
 
     std::uint32_t edge_count() const { return static_cast<std::uint32_t>(edges_.size()); }
     const Edge& edge(std::uint32_t e) const { return edges_[e]; }
@@ -87,6 +95,7 @@ public:
     bool ring_closed(std::uint32_t v) const { return ring_closed_[v] != 0; }
     /// v's ordered ring as indices (ring_order.h).
     detail::RingIndices ring_indices(std::uint32_t v) const {
+        assert(ordered_rings_);
         return {&ring_nbrs_[ring_offsets_[v]], valence(v),        ring_closed_[v] != 0,
                 ring_regular_[v] != 0,         curve_count_[v], &curve_nbr_[2 * v]};
     }
@@ -94,7 +103,10 @@ public:
     /// an endpoint of a detail::RegularEdge.
     bool regular_six(std::uint32_t v) const { return detail::regular_six(ring_indices(v), single_sector(v)); }
     bool ring_regular(std::uint32_t v) const { return ring_regular_[v] != 0; }
-    std::size_t valence(std::uint32_t v) const { return ring_offsets_[v + 1] - ring_offsets_[v]; }
+    std::size_t valence(std::uint32_t v) const {
+        assert(ordered_rings_);
+        return ring_offsets_[v + 1] - ring_offsets_[v];
+    }
 
 private:
     LevelTopology() = default;
@@ -114,6 +126,7 @@ private:
 
     // Level-sized arrays: on huge pages (huge_pages.h).
     bool manifold_edges_ = true;
+    bool ordered_rings_ = true;
     detail::HugeArray<Edge> edges_;
     detail::HugeArray<std::uint32_t> face_edges_;
     detail::HugeArray<std::size_t> ring_offsets_;

@@ -214,7 +214,7 @@ void subdivide_once(const Mesh& base, const SchemeRules& scheme, int level, bool
     else if (topo.manifold_edges())
         topo_slot = LevelTopology::refined(topo, triangles, old_count, children, out.creases);
     else
-        topo_slot.emplace(next, children, out.creases);
+        topo_slot.emplace(next, children, out.creases, topo.has_rings());
     positions.swap(next);
     triangles.swap(children);
     state = std::move(out);
@@ -253,7 +253,9 @@ SubdividedMesh detail::subdivide_uniform(const Mesh& mesh, SchemeKind kind, int 
     state.corner_uvs = mesh.corner_uvs;
     // The last level's normals need its topology only for sectors and given normals.
     const bool given_last = given_at_level(mesh, scheme, levels, given_every_level);
-    std::optional<LevelTopology> topo(std::in_place, out.positions, out.triangles, state.creases);
+    // Rings only for the schemes that read them (the normal scheme reads none).
+    std::optional<LevelTopology> topo(std::in_place, out.positions, out.triangles, state.creases,
+                                      scheme.reads_ordered_rings());
     for (int k = 0; k < levels; ++k) {
         const bool last = k + 1 == levels;
         subdivide_once(mesh, scheme, k, given_every_level, out.positions, out.triangles, state,
