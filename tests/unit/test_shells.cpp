@@ -4,12 +4,16 @@
 // drop a ray that grazes a flat box.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <functional>
+#include <random>
 
 #include <glm/geometric.hpp>
 
 #include "subdivtrace/hierarchy.h"
 #include "subdivtrace/shell.h"
+#include "subdivtrace/uniform.h"
+#include "node_shell.h"
 #include "test_meshes.h"
 
 using namespace subdivtrace;
@@ -74,6 +78,18 @@ ContainmentResult check_containment(const Mesh& mesh, SchemeKind scheme, int max
     return r;
 }
 
+/// A torus whose every vertex has valence 6, each moved by up to half an
+/// edge in a random direction (seeded): Loop's patches are all regular, so
+/// their shells reach from their own points toward their rings by
+/// k_loop_ring_weight (node_shell.h) only.
+Mesh rough_regular_torus() {
+    Mesh m = testmesh::torus(8, 6, 1.0, 0.35);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> jitter(-0.18, 0.18);
+    for (Vec3& p : m.positions) p += Vec3(jitter(rng), jitter(rng), jitter(rng));
+    return m;
+}
+
 }  // namespace
 
 TEST_CASE("shells contain every descendant up to max_level", "[shells][slow]") {
@@ -85,6 +101,7 @@ TEST_CASE("shells contain every descendant up to max_level", "[shells][slow]") {
     const std::vector<Case> corpus = {
         {"icosahedron", testmesh::icosahedron(), 6},
         {"torus", testmesh::torus(8, 6, 1.0, 0.35), 5},
+        {"rough torus, every vertex of valence 6", rough_regular_torus(), 5},
         {"irregular 3..12", testmesh::irregular_closed(7), 4},
         {"open grid", testmesh::open_grid(4), 5},
         {"sliver 1e6", testmesh::sliver_mesh(), 5},
@@ -109,6 +126,45 @@ TEST_CASE("shells contain every descendant up to max_level", "[shells][slow]") {
             WARN(c.name << " " << scheme_name(scheme) << ": shell / descendants diagonal "
                         << tightness << " (mean over " << r.ratio_nodes << " nodes)");
         }
+    }
+}
+
+TEST_CASE("Loop's ring around a regular triangle weighs at most k_loop_ring_weight below it", "[shells]") {
+    // Loop is linear: subdividing the mesh with one coordinate raised by 1 at
+    // the nine vertices around base triangle T, and subtracting the plain
+    // mesh's subdivision, leaves that coordinate equal to the nine's weight
+    // in every point below T, control point or limit point. Regular: every
+    // vertex of the torus has valence 6.
+    const Mesh plain = testmesh::torus(12, 12, 1.0, 0.35);
+    const std::uint32_t t = 40;
+    const Triangle& tri = plain.triangles[t];
+    std::vector<bool> around(plain.positions.size(), false);
+    for (const Triangle& other : plain.triangles)
+        for (std::uint32_t v : other)
+            if (std::count(other.begin(), other.end(), tri[0]) || std::count(other.begin(), other.end(), tri[1]) ||
+                std::count(other.begin(), other.end(), tri[2]))
+                around[v] = true;
+    for (std::uint32_t v : tri) around[v] = false;
+    REQUIRE(std::count(around.begin(), around.end(), true) == 9);
+    Mesh raised = plain;
+    for (std::size_t v = 0; v < raised.positions.size(); ++v)
+        if (around[v]) raised.positions[v].x += 1.0;
+    for (bool limit : {false, true}) {
+        SubdividedMesh a = subdivide_uniform(plain, SchemeKind::loop, 5);
+        SubdividedMesh b = subdivide_uniform(raised, SchemeKind::loop, 5);
+        if (limit) {
+            push_to_limit(a, SchemeKind::loop);
+            push_to_limit(b, SchemeKind::loop);
+        }
+        double heaviest = 0.0;
+        for (std::size_t k = 0; k < a.triangles.size(); ++k) {
+            if (a.base_face[k] != t) continue;
+            for (std::uint32_t v : a.triangles[k]) heaviest = std::max(heaviest, b.positions[v].x - a.positions[v].x);
+        }
+        INFO((limit ? "limit points" : "control points at level 5") << ": the ring weighs " << heaviest);
+        CHECK(heaviest <= detail::k_loop_ring_weight);
+        // Tight: at T's corners the limit point takes exactly 1/3 from the ring.
+        CHECK(heaviest >= (limit ? 1.0 / 3.0 - 1e-12 : 0.33));
     }
 }
 
