@@ -79,7 +79,10 @@ public:
         return std::all_of(single_sector_.begin(), single_sector_.end(), [](std::uint8_t s) { return s != 0; });
     }
     /// Per neighbour of v's ring (fill_ring's order): its edge is a curve edge.
-    const std::uint8_t* ring_curve(std::uint32_t v) const { return &ring_curve_[ring_offsets_[v]]; }
+    const std::uint8_t* ring_curve(std::uint32_t v) const {
+        assert(ordered_rings_);
+        return &ring_curve_[ring_offsets_[v]];
+    }
     /// A corner slot 3t + c of v.
     std::uint32_t first_slot(std::uint32_t v) const { return inc_slots_[inc_offsets_[v]]; }
 
@@ -87,12 +90,17 @@ public:
     void fill_ring(std::uint32_t v, const std::vector<Vec3>& positions, VertexRing& ring) const;
     /// Neighbour k of v's ordered ring (k < valence(v)), and the edge to it.
     std::uint32_t ring_neighbour(std::uint32_t v, std::size_t k) const {
+        assert(ordered_rings_);
         return ring_nbrs_[ring_offsets_[v] + k];
     }
     std::uint32_t ring_edge(std::uint32_t v, std::size_t k) const {
+        assert(ordered_rings_);
         return ring_edges_[ring_offsets_[v] + k];
     }
-    bool ring_closed(std::uint32_t v) const { return ring_closed_[v] != 0; }
+    bool ring_closed(std::uint32_t v) const {
+        assert(ordered_rings_);
+        return ring_closed_[v] != 0;
+    }
     /// v's ordered ring as indices (ring_order.h).
     detail::RingIndices ring_indices(std::uint32_t v) const {
         assert(ordered_rings_);
@@ -102,7 +110,10 @@ public:
     /// Whether v's ring is whole, manifold, of valence 6 and in one sector:
     /// an endpoint of a detail::RegularEdge.
     bool regular_six(std::uint32_t v) const { return detail::regular_six(ring_indices(v), single_sector(v)); }
-    bool ring_regular(std::uint32_t v) const { return ring_regular_[v] != 0; }
+    bool ring_regular(std::uint32_t v) const {
+        assert(ordered_rings_);
+        return ring_regular_[v] != 0;
+    }
     std::size_t valence(std::uint32_t v) const {
         assert(ordered_rings_);
         return ring_offsets_[v + 1] - ring_offsets_[v];
