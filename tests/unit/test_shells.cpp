@@ -139,11 +139,13 @@ TEST_CASE("Loop's ring around a regular triangle weighs at most k_loop_ring_weig
     const std::uint32_t t = 40;
     const Triangle& tri = plain.triangles[t];
     std::vector<bool> around(plain.positions.size(), false);
-    for (const Triangle& other : plain.triangles)
-        for (std::uint32_t v : other)
-            if (std::count(other.begin(), other.end(), tri[0]) || std::count(other.begin(), other.end(), tri[1]) ||
-                std::count(other.begin(), other.end(), tri[2]))
-                around[v] = true;
+    for (const Triangle& other : plain.triangles) {
+        const bool touches = std::any_of(tri.begin(), tri.end(), [&](std::uint32_t v) {
+            return std::count(other.begin(), other.end(), v) != 0;
+        });
+        if (touches)
+            for (std::uint32_t v : other) around[v] = true;
+    }
     for (std::uint32_t v : tri) around[v] = false;
     REQUIRE(std::count(around.begin(), around.end(), true) == 9);
     Mesh raised = plain;
