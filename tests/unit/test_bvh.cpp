@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cstring>
 #include <random>
 #include <set>
 #include <tuple>
@@ -88,4 +89,49 @@ TEST_CASE("BVH: float nodes hold their items' boxes and the traversal finds ever
         CHECK(bad_children == 0);
         CHECK(std::count(seen.begin(), seen.end(), 1) == static_cast<long>(seen.size()));
     }
+}
+
+TEST_CASE("BVH: the two-box test gives each box ray_hits_box's verdict and entry, bit for bit",
+          "[bvh]") {
+    // Random boxes and rays, a third of the rays parallel to an axis (an
+    // infinite inverse direction; a NaN product where the ray lies in a face).
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> coordinate(-2.0, 2.0), size(0.0, 0.5);
+    std::uniform_int_distribution<int> axis(0, 5);
+    const Vec3 origin(0.25, -0.5, 1.0);
+    const auto random_node = [&] {
+        detail::BvhNode node;
+        const Vec3 c(coordinate(rng), coordinate(rng), coordinate(rng));
+        const Vec3 e(size(rng), size(rng), size(rng));
+        node.set_box(origin, c - e, c + e);
+        return node;
+    };
+    int hits = 0, misses = 0;
+    for (int r = 0; r < 20000; ++r) {
+        const detail::BvhNode a = random_node(), b = random_node();
+        Vec3 ray_origin(coordinate(rng), coordinate(rng), coordinate(rng));
+        // Half of them aimed near a's centre, so that both verdicts are common.
+        Vec3 dir(coordinate(rng), coordinate(rng), coordinate(rng));
+        if (r % 2 == 0) dir = 0.5 * (a.box_lo(origin) + a.box_hi(origin)) + 0.1 * dir - ray_origin;
+        const int flat = axis(rng);
+        if (flat < 3) {
+            dir[flat] = 0.0;
+            // In the plane of a's face along that axis, now and then.
+            if (r % 7 == 0) ray_origin[flat] = a.box_lo(origin)[flat];
+        }
+        const RayBoxQuery q = make_ray_box_query(ray_origin, dir, 0.0, r % 5 == 0 ? 1.0 : 1e300);
+        double t_a = -1.0, t_b = -1.0, expected_a = -1.0, expected_b = -1.0;
+        bool hit_a = false, hit_b = false;
+        detail::ray_hits_box_pair(q, origin, a, b, hit_a, hit_b, t_a, t_b);
+        const bool want_a = ray_hits_box(q, a.box_lo(origin), a.box_hi(origin), expected_a);
+        const bool want_b = ray_hits_box(q, b.box_lo(origin), b.box_hi(origin), expected_b);
+        REQUIRE(hit_a == want_a);
+        REQUIRE(hit_b == want_b);
+        if (want_a) REQUIRE(std::memcmp(&t_a, &expected_a, sizeof t_a) == 0);
+        if (want_b) REQUIRE(std::memcmp(&t_b, &expected_b, sizeof t_b) == 0);
+        (want_a ? hits : misses) += 1;
+    }
+    // Both verdicts were exercised.
+    CHECK(hits > 1000);
+    CHECK(misses > 1000);
 }
