@@ -19,6 +19,7 @@
 #include "crossings.h"
 #include "huge_pages.h"
 #include "ray_triangle.h"
+#include "shell_pair_test.h"
 #include "subdivtrace/hierarchy.h"
 
 namespace subdivtrace {
@@ -332,17 +333,47 @@ struct Walk {
         return ray_hits_shell(query, shell, s.options.shell_kind, t_entry);
     }
 
-    /// Whether the ray enters a child's shell; `kept[c]` is the parent's
-    /// corner that the child's corner c keeps (snapped or inherited, not its
-    /// own), or -1 for its own.
-    bool shell_entry(const Shell& shell, const DrawnCorner* parent, const std::int8_t* kept,
-                     double& t_entry) const {
-        if (mode == WalkMode::drawn || (kept[0] < 0 && kept[1] < 0 && kept[2] < 0)) return enters(shell, t_entry);
-        // Snapped corners can lie outside the node's own shell: grow by them.
-        Shell grown = shell;
-        for (int c = 0; c < 3; ++c)
-            if (kept[c] >= 0) grown.grow_both(parent[kept[c]].position);
-        return ray_hits_shell(query, grown, s.options.shell_kind, t_entry);
+    /// What a node's visit knows of a child: what it keeps of the node's
+    /// corners (its drawn corners are filled only if the ray enters it: most
+    /// children it misses), its edges, and whether and where the ray enters it.
+    struct Child {
+        NodeId id;
+        std::int8_t kept[3];  ///< per corner: the node's corner it keeps (not alive), or -1: its own
+        bool exists[3];
+        double t_entry;
+        bool hit;
+    };
+
+    /// Whether the ray enters each of a node's four children's shells, and
+    /// where (their hit and t_entry).
+    void children_entered(const std::array<Shell, 4>& shells, const DrawnCorner* parent, Child* children) const {
+        if (mode == WalkMode::drawn) {
+            for (int c = 0; c < 4; ++c) {
+                children[c].hit = true;
+                children[c].t_entry = 0.0;
+            }
+            return;
+        }
+        // Snapped corners can lie outside the node's own shell: grown by them
+        // (in room left uninitialised, as child_shells' is in visit()).
+        union GrownShells {
+            GrownShells() {}
+            std::array<Shell, 4> shells;
+        } grown;
+        const Shell* tested[4];
+        for (int c = 0; c < 4; ++c) {
+            const std::int8_t* kept = children[c].kept;
+            tested[c] = &shells[c];
+            if (kept[0] < 0 && kept[1] < 0 && kept[2] < 0) continue;
+            grown.shells[c] = shells[c];
+            for (int k = 0; k < 3; ++k)
+                if (kept[k] >= 0) grown.shells[c].grow_both(parent[kept[k]].position);
+            tested[c] = &grown.shells[c];
+        }
+        const ShellKind kind = s.options.shell_kind;
+        for (int c = 0; c < 4; c += 2)
+            detail::ray_hits_shell_pair(query, *tested[c], *tested[c + 1], kind, children[c].hit,
+                                        children[c + 1].hit, children[c].t_entry, children[c + 1].t_entry);
     }
 
     void leaf(const NodeId& id, const NodeRecord& rec, const DrawnCorner* drawn,
@@ -499,15 +530,6 @@ struct Walk {
         Shell grown = rec.shell;
         for (int c = 0; c < 3; ++c) grown.grow_both(drawn[c].position);
         const double snap_depth = std::max(from_parent.snap_depth, shell_depth(grown));
-        // What a child keeps of this node's corners; its drawn corners are
-        // filled only if the ray enters it (most children it misses).
-        struct Child {
-            NodeId id;
-            std::int8_t kept[3];  ///< per corner: this node's corner it keeps (not alive), or -1: its own
-            bool exists[3];
-            double t_entry;
-            bool hit;
-        };
         Child children[4];
         // Filled whole by child_shells, so left uninitialised: four Shells'
         // defaults copied in at every visit were 0.6% of a close-up's
@@ -538,8 +560,8 @@ struct Walk {
                 else if (!q.is_edge) ch.exists[k] = refine[p.index];
                 else ch.exists[k] = true;
             }
-            ch.hit = shell_entry(child_shells[c], drawn, ch.kept, ch.t_entry);
         }
+        children_entered(child_shells, drawn, children);
         // The children the ray enters, nearest first: an insertion sort,
         // stable (children entered at the same distance keep their order).
         int order[4];
