@@ -14,6 +14,10 @@
 #include <cstdint>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <glm/geometric.hpp>
 
 #include "subdivtrace/shell.h"
@@ -112,6 +116,63 @@ struct LevelShell {
         return s;
     }
     Shell expand(const ShellGrid& grid, const Vec3& origin) const { return expand(Frame(grid, origin)); }
+
+    /// expand() of two shells at once where SSE2 is (a node's children are
+    /// expanded together): each lane does expand()'s operations in its
+    /// order, so the shells are the same bits.
+    static void expand_pair(const Frame& f, const LevelShell& a, const LevelShell& b, Shell& out_a, Shell& out_b) {
+#if defined(__SSE2__)
+        if (a.lo[0] > a.hi[0] || b.lo[0] > b.hi[0] || f.unbounded) {
+#endif
+            out_a = a.expand(f);
+            out_b = b.expand(f);
+#if defined(__SSE2__)
+            return;
+        }
+        const auto pair = [](double x, double y) { return _mm_set_pd(y, x); };
+        const auto store = [](__m128d v, double& x, double& y) {
+            _mm_storel_pd(&x, v);
+            _mm_storeh_pd(&y, v);
+        };
+        const __m128d pad = _mm_set1_pd(f.pad);
+        __m128d lo[3], hi[3], axis[3];
+        bool has_axis_a = false, has_axis_b = false;
+        for (int k = 0; k < 3; ++k) {
+            // box(): origin + (lo + q * step), the grid point q exact in double.
+            const __m128d origin = _mm_set1_pd(f.origin[k]), grid_lo = _mm_set1_pd(f.lo[k]);
+            const __m128d step = _mm_set1_pd(f.step[k]);
+            lo[k] = _mm_add_pd(origin, _mm_add_pd(grid_lo, _mm_mul_pd(pair(a.lo[k], b.lo[k]), step)));
+            hi[k] = _mm_add_pd(origin, _mm_add_pd(grid_lo, _mm_mul_pd(pair(a.hi[k], b.hi[k]), step)));
+            axis[k] = _mm_mul_pd(pair(a.axis[k], b.axis[k]), _mm_set1_pd(1.0 / 32768.0));
+            has_axis_a = has_axis_a || a.axis[k] != 0;
+            has_axis_b = has_axis_b || b.axis[k] != 0;
+        }
+        // SlabSpan::of: the axis over the box's lowest and highest corners.
+        __m128d base = _mm_setzero_pd(), top = _mm_setzero_pd();
+        for (int k = 0; k < 3; ++k) {
+            const __m128d rising = _mm_cmpge_pd(axis[k], _mm_setzero_pd());
+            const __m128d low_end = _mm_or_pd(_mm_and_pd(rising, lo[k]), _mm_andnot_pd(rising, hi[k]));
+            const __m128d high_end = _mm_or_pd(_mm_and_pd(rising, hi[k]), _mm_andnot_pd(rising, lo[k]));
+            base = _mm_add_pd(base, _mm_mul_pd(axis[k], low_end));
+            top = _mm_add_pd(top, _mm_mul_pd(axis[k], high_end));
+        }
+        const __m128d slab_step = _mm_mul_pd(_mm_sub_pd(top, base), _mm_set1_pd(1.0 / ShellGrid::k_last));
+        __m128d slab_min = _mm_add_pd(base, _mm_mul_pd(pair(a.slab[0], b.slab[0]), slab_step));
+        __m128d slab_max = _mm_add_pd(base, _mm_mul_pd(pair(a.slab[1], b.slab[1]), slab_step));
+        // Without an axis the slab stays at zero, as expand() leaves it.
+        const __m128d has_axis = _mm_castsi128_pd(_mm_set_epi64x(has_axis_b ? -1 : 0, has_axis_a ? -1 : 0));
+        slab_min = _mm_and_pd(has_axis, slab_min);
+        slab_max = _mm_and_pd(has_axis, slab_max);
+        // Shell::pad.
+        for (int k = 0; k < 3; ++k) {
+            store(_mm_sub_pd(lo[k], pad), out_a.lo[k], out_b.lo[k]);
+            store(_mm_add_pd(hi[k], pad), out_a.hi[k], out_b.hi[k]);
+            store(axis[k], out_a.axis[k], out_b.axis[k]);
+        }
+        store(_mm_sub_pd(slab_min, pad), out_a.slab_min, out_b.slab_min);
+        store(_mm_add_pd(slab_max, pad), out_a.slab_max, out_b.slab_max);
+#endif
+    }
 
 private:
     /// The stored box and axis, unpadded and without the slab: what

@@ -271,7 +271,9 @@ public:
         const TileLevel& level = levels_[j - 1];
         const LevelShell::Frame frame(level.shell_grid(), origin());
         const LevelShell* shells = level.shells();
-        for (int c = 0; c < 4; ++c) out[c] = shells[index_in_level(child_of(parent, c))].expand(frame);
+        for (int c = 0; c < 4; c += 2)
+            LevelShell::expand_pair(frame, shells[index_in_level(child_of(parent, c))],
+                                    shells[index_in_level(child_of(parent, c + 1))], out[c], out[c + 1]);
     }
 
     /// The level below its deepest one (its triangles' children and their

@@ -4,6 +4,7 @@
 // steps wider than the exact one, and empty stays empty. Levels near the
 // origin, at 1e6 from it, tiny and flat.
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -152,4 +153,45 @@ TEST_CASE("a level wider than a float reaches keeps shells that hold everything"
     const Shell kept = LevelShell::from(near_one, finite, origin).expand(finite, origin);
     CHECK(std::isfinite(kept.lo.x));
     CHECK(std::isfinite(kept.hi.z));
+}
+
+TEST_CASE("level shells expanded two at a time are expand()'s bits", "[shells][level_shell]") {
+    // Random levels near the origin and far from it, with shells that have
+    // no slab (a zero axis), empty ones, and a level too wide for its grid.
+    std::mt19937_64 rng(7);
+    const auto same_bits = [](const Shell& x, const Shell& y) {
+        const double xs[11] = {x.lo.x, x.lo.y, x.lo.z, x.hi.x, x.hi.y, x.hi.z, x.axis.x, x.axis.y, x.axis.z, x.slab_min, x.slab_max};
+        const double ys[11] = {y.lo.x, y.lo.y, y.lo.z, y.hi.x, y.hi.y, y.hi.z, y.axis.x, y.axis.y, y.axis.z, y.slab_min, y.slab_max};
+        return std::memcmp(xs, ys, sizeof xs) == 0;
+    };
+    int pairs = 0;
+    for (const Vec3& centre : {Vec3(0.3, -0.2, 0.1), Vec3(1e6, -2e6, 5e5)}) {
+        Level level = random_level(rng, centre, 0.5, 40, false);
+        level.shells[3].axis = Vec3(0.0);  // a box alone
+        level.shells[8] = Shell{};        // empty
+        const ShellGrid grid = ShellGrid::spanning(level.shells.data(), level.shells.size(), level.origin);
+        std::vector<LevelShell> stored;
+        for (const Shell& s : level.shells) stored.push_back(LevelShell::from(s, grid, level.origin));
+        const LevelShell::Frame frame(grid, level.origin);
+        for (std::size_t a = 0; a < stored.size(); ++a)
+            for (std::size_t b = 0; b < stored.size(); b += 3) {
+                Shell out_a, out_b;
+                LevelShell::expand_pair(frame, stored[a], stored[b], out_a, out_b);
+                REQUIRE(same_bits(out_a, stored[a].expand(frame)));
+                REQUIRE(same_bits(out_b, stored[b].expand(frame)));
+                ++pairs;
+            }
+    }
+    // A level too wide for a float grid: every shell unbounded.
+    Shell wide;
+    wide.lo = Vec3(-1e300);
+    wide.hi = Vec3(1e300);
+    const Vec3 origin(0.0);
+    const ShellGrid grid = ShellGrid::spanning(&wide, 1, origin);
+    const LevelShell one = LevelShell::from(wide, grid, origin);
+    Shell out_a, out_b;
+    LevelShell::expand_pair(LevelShell::Frame(grid, origin), one, one, out_a, out_b);
+    CHECK(same_bits(out_a, one.expand(grid, origin)));
+    CHECK(same_bits(out_b, one.expand(grid, origin)));
+    CHECK(pairs > 1000);
 }
