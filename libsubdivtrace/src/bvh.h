@@ -95,6 +95,14 @@ public:
     /// visit(item) may lower t_max (a closer hit). t_max is read by reference.
     template <class Visit>
     void traverse(const RayBoxQuery& query, const double& t_max, Visit visit) const {
+        traverse_leaves(query, t_max, [&](const std::uint32_t* items, std::uint32_t count) {
+            for (std::uint32_t k = 0; k < count; ++k) visit(items[k]);
+        });
+    }
+
+    /// traverse(), a leaf at a time: visit_leaf(items, count) with its items.
+    template <class VisitLeaf>
+    void traverse_leaves(const RayBoxQuery& query, const double& t_max, VisitLeaf visit_leaf) const {
         if (nodes_.empty()) return;
         // Each node's box is tested once, by its parent (which orders the two
         // children by it); the stack keeps where the ray enters it, so a node
@@ -117,7 +125,7 @@ public:
             if (pending.t_entry > t_max) continue;
             const BvhNode& node = nodes_[pending.node];
             if (node.count > 0) {
-                for (std::uint32_t k = 0; k < node.count; ++k) visit(items_[node.first + k]);
+                visit_leaf(&items_[node.first], node.count);
                 continue;
             }
             // Near child last on the stack, so it is visited first.

@@ -471,15 +471,37 @@ struct Walk {
         return glm::length(shell.hi - shell.lo);
     }
 
-    /// Starts the descent at a base triangle: its corners and edges are its own.
-    void visit_root(std::uint32_t face) {
+    /// Starts the descent at the base triangles of a BVH leaf, their shells
+    /// tested two at a time: the shells first, alone (a ray misses most of
+    /// the base triangles it meets, five a ray in the close-up, so reading
+    /// their whole records cost more than testing).
+    void visit_roots(const std::uint32_t* faces, std::uint32_t count) {
+        for (std::uint32_t k = 0; k < count; k += 2) {
+            if (k + 1 == count || mode == WalkMode::drawn) {
+                for (; k < count; ++k) {
+                    const Shell shell = s.hierarchy.root_shell(faces[k]);
+                    double t_entry;
+                    if (enters(shell, t_entry)) visit_root(faces[k], shell);
+                }
+                return;
+            }
+            const Shell first = s.hierarchy.root_shell(faces[k]);
+            const Shell second = s.hierarchy.root_shell(faces[k + 1]);
+            bool hit_first = false, hit_second = false;
+            double t_first = 0.0, t_second = 0.0;
+            detail::ray_hits_shell_pair(query, first, second, s.options.shell_kind, hit_first, hit_second, t_first,
+                                        t_second);
+            if (hit_first) visit_root(faces[k], first);
+            // Tested before the first's visit could lower t_max: the test
+            // with the lower t_max fails exactly where the entry lies beyond it.
+            if (hit_second && t_second <= query.t_max) visit_root(faces[k + 1], second);
+        }
+    }
+
+    /// Descends from a base triangle whose shell the ray enters: its corners
+    /// and edges are its own.
+    void visit_root(std::uint32_t face, const Shell& shell) {
         const NodeId id = Hierarchy::root(face);
-        // The shell first, alone: a BVH leaf lists two base triangles, and
-        // a ray misses most of those it meets (five a ray in the close-up),
-        // so reading their whole records cost more than testing.
-        const Shell shell = s.hierarchy.root_shell(face);
-        double t_entry;
-        if (!enters(shell, t_entry)) return;
         NodeRecord rec = s.hierarchy.node(id, Hierarchy::Part::corners);
         rec.shell = shell;
         DrawnCorner drawn[3];
@@ -625,7 +647,8 @@ void SurfaceImpl::trace(const Ray& ray, bool all, Hit* nearest, bool* found,
     setup.all_hits = hits;
     Walk walk(*this, setup);
     walk.counters.rays = 1;
-    top.traverse(walk.query, walk.t_max, [&](std::uint32_t face) { walk.visit_root(face); });
+    top.traverse_leaves(walk.query, walk.t_max,
+                        [&](const std::uint32_t* faces, std::uint32_t count) { walk.visit_roots(faces, count); });
     if (found) *found = walk.found;
     if (nearest && walk.found) *nearest = walk.best;
     Totals& totals_here = my_totals();
@@ -654,7 +677,7 @@ void SurfaceImpl::collect_drawn(const Vec3& origin, double origin_distance,
     setup.mode = WalkMode::drawn;
     setup.drawn_out = &out;
     Walk walk(*this, setup);
-    for (std::uint32_t face = 0; face < mesh.triangles.size(); ++face) walk.visit_root(face);
+    for (std::uint32_t face = 0; face < mesh.triangles.size(); ++face) walk.visit_roots(&face, 1);
 }
 
 AdaptiveSurface::AdaptiveSurface(Mesh mesh, const SurfaceOptions& options) {
