@@ -550,12 +550,19 @@ struct Walk {
             snap_to[e] = frozen_at_a || !frozen_at_b ? a : b;
         }
         // What the children inherit: this node's slab, and where one of
-        // them draws a snapped corner, how deep this node's grown shell is.
+        // them draws a snapped corner, how deep this node's grown shell is
+        // (found for the first such child the ray enters: most visits have none).
         FromParent inherited;
         inherited.thickness = rec.shell.thickness();
-        Shell grown = rec.shell;
-        for (int c = 0; c < 3; ++c) grown.grow_both(drawn[c].position);
-        const double snap_depth = std::max(from_parent.snap_depth, shell_depth(grown));
+        double snap_depth = -1.0;
+        const auto depth_with_snapped = [&] {
+            if (snap_depth < 0.0) {
+                Shell grown = rec.shell;
+                for (int c = 0; c < 3; ++c) grown.grow_both(drawn[c].position);
+                snap_depth = std::max(from_parent.snap_depth, shell_depth(grown));
+            }
+            return snap_depth;
+        };
         Child children[4];
         // Filled whole by child_shells, so left uninitialised: four Shells'
         // defaults copied in at every visit were 0.6% of a close-up's
@@ -609,7 +616,7 @@ struct Walk {
             Child& ch = children[c_entered];
             if (mode == WalkMode::nearest && ch.t_entry > t_max) break;
             const bool snapped = ch.kept[0] >= 0 || ch.kept[1] >= 0 || ch.kept[2] >= 0;
-            inherited.snap_depth = snapped ? snap_depth : 0.0;
+            inherited.snap_depth = snapped ? depth_with_snapped() : 0.0;
             // Its own corners come from its record, the others are this
             // node's (dead, where they were alive here: snapped); its shell
             // is the one tested above (the same bits), not decoded again.
