@@ -6,10 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
+#include "double_pairs.h"
 #include "subdivtrace/shell.h"
 
 namespace subdivtrace::detail {
@@ -42,31 +39,17 @@ struct BvhNode {
 inline void ray_hits_box_pair(const RayBoxQuery& q, const Vec3& origin, const BvhNode& a, const BvhNode& b,
                               bool& hit_a, bool& hit_b, double& t_a, double& t_b) {
 #if defined(__SSE2__)
-    // ray_box_interval per lane without its early exit: t_near only rises
-    // and t_far only falls, so the last test decides as the first failing
-    // one would. _mm_min_pd(x, y) is x < y ? x : y and _mm_max_pd(x, y)
-    // x > y ? x : y, NaN giving y: the scalar code's comparisons exactly.
+    __m128d lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+        // box_lo and box_hi: the origin plus the stored floats, in double.
+        const __m128d o = _mm_set1_pd(origin[k]);
+        lo[k] = _mm_add_pd(o, pair_of(a.lo[k], b.lo[k]));
+        hi[k] = _mm_add_pd(o, pair_of(a.hi[k], b.hi[k]));
+    }
     __m128d t_near = _mm_set1_pd(q.t_min);
     __m128d t_far = _mm_set1_pd(q.t_max);
-    const __m128d widen = _mm_set1_pd(1.0 + 2.0 * gamma_bound(3));
-    for (int k = 0; k < 3; ++k) {
-        const __m128d o = _mm_set1_pd(origin[k]);
-        const __m128d lo = _mm_add_pd(o, _mm_set_pd(double{b.lo[k]}, double{a.lo[k]}));
-        const __m128d hi = _mm_add_pd(o, _mm_set_pd(double{b.hi[k]}, double{a.hi[k]}));
-        const __m128d ray_origin = _mm_set1_pd(q.origin[k]);
-        const __m128d inv_dir = _mm_set1_pd(q.inv_dir[k]);
-        const __m128d t0 = _mm_mul_pd(_mm_sub_pd(lo, ray_origin), inv_dir);
-        const __m128d t1 = _mm_mul_pd(_mm_sub_pd(hi, ray_origin), inv_dir);
-        const __m128d nearer = _mm_min_pd(t1, t0);                     // t0 > t1 ? t1 : t0
-        const __m128d farther = _mm_mul_pd(_mm_max_pd(t0, t1), widen);  // t0 > t1 ? t0 : t1
-        t_near = _mm_max_pd(nearer, t_near);
-        t_far = _mm_min_pd(farther, t_far);
-    }
-    const int missed = _mm_movemask_pd(_mm_cmpgt_pd(t_near, t_far));
-    hit_a = (missed & 1) == 0;
-    hit_b = (missed & 2) == 0;
-    t_a = _mm_cvtsd_f64(t_near);
-    t_b = _mm_cvtsd_f64(_mm_unpackhi_pd(t_near, t_near));
+    ray_box_interval_pair(q, lo, hi, t_near, t_far);
+    lane_verdicts(_mm_cmpgt_pd(t_near, t_far), t_near, hit_a, hit_b, t_a, t_b);
 #else
     hit_a = ray_hits_box(q, a.box_lo(origin), a.box_hi(origin), t_a);
     hit_b = ray_hits_box(q, b.box_lo(origin), b.box_hi(origin), t_b);

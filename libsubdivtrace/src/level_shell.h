@@ -14,11 +14,9 @@
 #include <cstdint>
 #include <limits>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include <glm/geometric.hpp>
+
+#include "double_pairs.h"
 
 #include "subdivtrace/shell.h"
 
@@ -129,11 +127,6 @@ struct LevelShell {
 #if defined(__SSE2__)
             return;
         }
-        const auto pair = [](double x, double y) { return _mm_set_pd(y, x); };
-        const auto store = [](__m128d v, double& x, double& y) {
-            _mm_storel_pd(&x, v);
-            _mm_storeh_pd(&y, v);
-        };
         const __m128d pad = _mm_set1_pd(f.pad);
         __m128d lo[3], hi[3], axis[3];
         bool has_axis_a = false, has_axis_b = false;
@@ -141,9 +134,9 @@ struct LevelShell {
             // box(): origin + (lo + q * step), the grid point q exact in double.
             const __m128d origin = _mm_set1_pd(f.origin[k]), grid_lo = _mm_set1_pd(f.lo[k]);
             const __m128d step = _mm_set1_pd(f.step[k]);
-            lo[k] = _mm_add_pd(origin, _mm_add_pd(grid_lo, _mm_mul_pd(pair(a.lo[k], b.lo[k]), step)));
-            hi[k] = _mm_add_pd(origin, _mm_add_pd(grid_lo, _mm_mul_pd(pair(a.hi[k], b.hi[k]), step)));
-            axis[k] = _mm_mul_pd(pair(a.axis[k], b.axis[k]), _mm_set1_pd(1.0 / 32768.0));
+            lo[k] = _mm_add_pd(origin, _mm_add_pd(grid_lo, _mm_mul_pd(pair_of(a.lo[k], b.lo[k]), step)));
+            hi[k] = _mm_add_pd(origin, _mm_add_pd(grid_lo, _mm_mul_pd(pair_of(a.hi[k], b.hi[k]), step)));
+            axis[k] = _mm_mul_pd(pair_of(a.axis[k], b.axis[k]), _mm_set1_pd(1.0 / 32768.0));
             has_axis_a = has_axis_a || a.axis[k] != 0;
             has_axis_b = has_axis_b || b.axis[k] != 0;
         }
@@ -151,26 +144,26 @@ struct LevelShell {
         __m128d base = _mm_setzero_pd(), top = _mm_setzero_pd();
         for (int k = 0; k < 3; ++k) {
             const __m128d rising = _mm_cmpge_pd(axis[k], _mm_setzero_pd());
-            const __m128d low_end = _mm_or_pd(_mm_and_pd(rising, lo[k]), _mm_andnot_pd(rising, hi[k]));
-            const __m128d high_end = _mm_or_pd(_mm_and_pd(rising, hi[k]), _mm_andnot_pd(rising, lo[k]));
+            const __m128d low_end = select_lanes(rising, lo[k], hi[k]);
+            const __m128d high_end = select_lanes(rising, hi[k], lo[k]);
             base = _mm_add_pd(base, _mm_mul_pd(axis[k], low_end));
             top = _mm_add_pd(top, _mm_mul_pd(axis[k], high_end));
         }
         const __m128d slab_step = _mm_mul_pd(_mm_sub_pd(top, base), _mm_set1_pd(1.0 / ShellGrid::k_last));
-        __m128d slab_min = _mm_add_pd(base, _mm_mul_pd(pair(a.slab[0], b.slab[0]), slab_step));
-        __m128d slab_max = _mm_add_pd(base, _mm_mul_pd(pair(a.slab[1], b.slab[1]), slab_step));
+        __m128d slab_min = _mm_add_pd(base, _mm_mul_pd(pair_of(a.slab[0], b.slab[0]), slab_step));
+        __m128d slab_max = _mm_add_pd(base, _mm_mul_pd(pair_of(a.slab[1], b.slab[1]), slab_step));
         // Without an axis the slab stays at zero, as expand() leaves it.
-        const __m128d has_axis = _mm_castsi128_pd(_mm_set_epi64x(has_axis_b ? -1 : 0, has_axis_a ? -1 : 0));
+        const __m128d has_axis = lane_mask(has_axis_a, has_axis_b);
         slab_min = _mm_and_pd(has_axis, slab_min);
         slab_max = _mm_and_pd(has_axis, slab_max);
         // Shell::pad.
         for (int k = 0; k < 3; ++k) {
-            store(_mm_sub_pd(lo[k], pad), out_a.lo[k], out_b.lo[k]);
-            store(_mm_add_pd(hi[k], pad), out_a.hi[k], out_b.hi[k]);
-            store(axis[k], out_a.axis[k], out_b.axis[k]);
+            store_lanes(_mm_sub_pd(lo[k], pad), out_a.lo[k], out_b.lo[k]);
+            store_lanes(_mm_add_pd(hi[k], pad), out_a.hi[k], out_b.hi[k]);
+            store_lanes(axis[k], out_a.axis[k], out_b.axis[k]);
         }
-        store(_mm_sub_pd(slab_min, pad), out_a.slab_min, out_b.slab_min);
-        store(_mm_add_pd(slab_max, pad), out_a.slab_max, out_b.slab_max);
+        store_lanes(_mm_sub_pd(slab_min, pad), out_a.slab_min, out_b.slab_min);
+        store_lanes(_mm_add_pd(slab_max, pad), out_a.slab_max, out_b.slab_max);
 #endif
     }
 

@@ -19,7 +19,7 @@
 #include "crossings.h"
 #include "huge_pages.h"
 #include "ray_triangle.h"
-#include "shell_pair_test.h"
+#include "shell_pair.h"
 #include "subdivtrace/hierarchy.h"
 
 namespace subdivtrace {

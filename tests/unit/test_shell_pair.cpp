@@ -5,7 +5,7 @@
 #include <cstring>
 #include <random>
 
-#include "shell_pair_test.h"
+#include "shell_pair.h"
 
 using namespace subdivtrace;
 

@@ -5,10 +5,7 @@
 // so the verdicts and entry distances are the same bits; elsewhere it is
 // two calls of it.
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
+#include "double_pairs.h"
 #include "subdivtrace/shell.h"
 
 namespace subdivtrace::detail {
@@ -16,24 +13,15 @@ namespace subdivtrace::detail {
 inline void ray_hits_shell_pair(const RayBoxQuery& q, const Shell& a, const Shell& b, ShellKind kind,
                                 bool& hit_a, bool& hit_b, double& t_a, double& t_b) {
 #if defined(__SSE2__)
-    // The box: ray_box_interval per lane without its early exit (t_near
-    // only rises and t_far only falls, so the last test decides as the
-    // first failing one would). _mm_min_pd(x, y) is x < y ? x : y and
-    // _mm_max_pd(x, y) x > y ? x : y, NaN giving y: the scalar code's
-    // comparisons exactly.
     const double g3 = 2.0 * gamma_bound(3);
+    __m128d lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = pair_of(a.lo[k], b.lo[k]);
+        hi[k] = pair_of(a.hi[k], b.hi[k]);
+    }
     __m128d t_near = _mm_set1_pd(q.t_min);
     __m128d t_far = _mm_set1_pd(q.t_max);
-    for (int k = 0; k < 3; ++k) {
-        const __m128d ray_origin = _mm_set1_pd(q.origin[k]);
-        const __m128d inv_dir = _mm_set1_pd(q.inv_dir[k]);
-        const __m128d t0 = _mm_mul_pd(_mm_sub_pd(_mm_set_pd(b.lo[k], a.lo[k]), ray_origin), inv_dir);
-        const __m128d t1 = _mm_mul_pd(_mm_sub_pd(_mm_set_pd(b.hi[k], a.hi[k]), ray_origin), inv_dir);
-        const __m128d nearer = _mm_min_pd(t1, t0);                                     // t0 > t1 ? t1 : t0
-        const __m128d farther = _mm_mul_pd(_mm_max_pd(t0, t1), _mm_set1_pd(1.0 + g3));  // t0 > t1 ? t0 : t1
-        t_near = _mm_max_pd(nearer, t_near);
-        t_far = _mm_min_pd(farther, t_far);
-    }
+    ray_box_interval_pair(q, lo, hi, t_near, t_far);
     __m128d missed = _mm_cmpgt_pd(t_near, t_far);
     const bool slab_a = a.axis != Vec3(0.0), slab_b = b.axis != Vec3(0.0);
     if (kind == ShellKind::aabb_slab && (slab_a || slab_b) && _mm_movemask_pd(missed) != 3) {
@@ -44,8 +32,8 @@ inline void ray_hits_shell_pair(const RayBoxQuery& q, const Shell& a, const Shel
             sum = _mm_add_pd(sum, _mm_mul_pd(x[1], _mm_set1_pd(y.y)));
             return _mm_add_pd(sum, _mm_mul_pd(x[2], _mm_set1_pd(y.z)));
         };
-        const __m128d axis[3] = {_mm_set_pd(b.axis.x, a.axis.x), _mm_set_pd(b.axis.y, a.axis.y),
-                                 _mm_set_pd(b.axis.z, a.axis.z)};
+        const __m128d axis[3] = {pair_of(a.axis.x, b.axis.x), pair_of(a.axis.y, b.axis.y),
+                                 pair_of(a.axis.z, b.axis.z)};
         const __m128d denom = dot(axis, q.dir);
         const __m128d num = dot(axis, q.origin);
         // Rounding of the two dot products, bounded as in pbrt (|x| by
@@ -55,8 +43,8 @@ inline void ray_hits_shell_pair(const RayBoxQuery& q, const Shell& a, const Shel
         ao_sum = _mm_add_pd(ao_sum, _mm_and_pd(_mm_mul_pd(axis[1], _mm_set1_pd(q.origin.y)), magnitude));
         ao_sum = _mm_add_pd(ao_sum, _mm_and_pd(_mm_mul_pd(axis[2], _mm_set1_pd(q.origin.z)), magnitude));
         const __m128d err = _mm_mul_pd(_mm_set1_pd(gamma_bound(5)), ao_sum);
-        const __m128d s_min = _mm_sub_pd(_mm_set_pd(b.slab_min, a.slab_min), err);
-        const __m128d s_max = _mm_add_pd(_mm_set_pd(b.slab_max, a.slab_max), err);
+        const __m128d s_min = _mm_sub_pd(pair_of(a.slab_min, b.slab_min), err);
+        const __m128d s_max = _mm_add_pd(pair_of(a.slab_max, b.slab_max), err);
         // Parallel to the slab: inside it or not.
         const __m128d parallel = _mm_cmpeq_pd(denom, _mm_setzero_pd());
         const __m128d outside = _mm_or_pd(_mm_cmplt_pd(num, s_min), _mm_cmpgt_pd(num, s_max));
@@ -65,25 +53,18 @@ inline void ray_hits_shell_pair(const RayBoxQuery& q, const Shell& a, const Shel
         const __m128d t1 = _mm_div_pd(_mm_sub_pd(s_max, num), denom);
         const __m128d lower = _mm_min_pd(t1, t0);
         const __m128d upper = _mm_max_pd(t0, t1);
-        const auto select = [](__m128d mask, __m128d yes, __m128d no) {
-            return _mm_or_pd(_mm_and_pd(mask, yes), _mm_andnot_pd(mask, no));
-        };
         const __m128d shrink = _mm_set1_pd(1.0 - g3), grow = _mm_set1_pd(1.0 + g3);
         const __m128d lower_positive = _mm_cmpgt_pd(lower, _mm_setzero_pd());
         const __m128d upper_positive = _mm_cmpgt_pd(upper, _mm_setzero_pd());
-        const __m128d slab_near = _mm_max_pd(_mm_mul_pd(lower, select(lower_positive, shrink, grow)), t_near);
-        const __m128d slab_far = _mm_min_pd(_mm_mul_pd(upper, select(upper_positive, grow, shrink)), t_far);
-        const __m128d slab_missed = select(parallel, outside, _mm_cmpgt_pd(slab_near, slab_far));
-        const __m128d has_slab = _mm_castsi128_pd(_mm_set_epi64x(slab_b ? -1 : 0, slab_a ? -1 : 0));
+        const __m128d slab_near = _mm_max_pd(_mm_mul_pd(lower, select_lanes(lower_positive, shrink, grow)), t_near);
+        const __m128d slab_far = _mm_min_pd(_mm_mul_pd(upper, select_lanes(upper_positive, grow, shrink)), t_far);
+        const __m128d slab_missed = select_lanes(parallel, outside, _mm_cmpgt_pd(slab_near, slab_far));
+        const __m128d has_slab = lane_mask(slab_a, slab_b);
         // A slab that is crossed moves the entry (not where the ray runs parallel to it).
-        t_near = select(_mm_andnot_pd(parallel, has_slab), slab_near, t_near);
+        t_near = select_lanes(_mm_andnot_pd(parallel, has_slab), slab_near, t_near);
         missed = _mm_or_pd(missed, _mm_and_pd(has_slab, slab_missed));
     }
-    const int miss_bits = _mm_movemask_pd(missed);
-    hit_a = (miss_bits & 1) == 0;
-    hit_b = (miss_bits & 2) == 0;
-    t_a = _mm_cvtsd_f64(t_near);
-    t_b = _mm_cvtsd_f64(_mm_unpackhi_pd(t_near, t_near));
+    lane_verdicts(missed, t_near, hit_a, hit_b, t_a, t_b);
 #else
     hit_a = ray_hits_shell(q, a, kind, t_a);
     hit_b = ray_hits_shell(q, b, kind, t_b);
