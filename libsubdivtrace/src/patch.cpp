@@ -575,7 +575,7 @@ const ChildTables& child_tables(bool parent_down) {
 
 }  // namespace
 
-Patch Patch::subdivide_topology(const BaseTopology& topo) const {
+Patch Patch::subdivide_topology(const BaseTopology& topo, const Flags& split) const {
     Patch next;
     next.level = level + 1;
     const std::uint32_t old_count = static_cast<std::uint32_t>(verts.size());
@@ -584,13 +584,16 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
         next.verts[v].key = verts[v].key;
         next.verts[v].true_ring = verts[v].true_ring;
     }
-    // Each triangle becomes four, in the hierarchy's child order.
-    next.tris.resize(4 * tris.size());
+    // Each split triangle becomes four, in the hierarchy's child order.
+    const std::size_t split_count = static_cast<std::size_t>(std::count(split.begin(), split.end(), 1));
+    next.tris.resize(4 * split_count);
     next.edge_names.resize(3 * next.tris.size());
     const std::uint32_t inner_names = 2 * static_cast<std::uint32_t>(edges.size());
     Flags keyed(edges.size(), false);
     const std::uint32_t triangle_count = static_cast<std::uint32_t>(tris.size());
+    std::uint32_t first_child = 0;
     for (std::uint32_t t = 0; t < triangle_count; ++t) {
+        if (!split[t]) continue;
         const PatchTriangle pt = tris[t];  // a copy: the stores below might alias it
         const auto grid = node_corner_grid(pt.id);
         for (int e = 0; e < 3; ++e) {
@@ -620,14 +623,15 @@ Patch Patch::subdivide_topology(const BaseTopology& topo) const {
         }
         const ChildTables& table = child_tables(pt.id.down);
         for (int c = 0; c < 4; ++c) {
-            PatchTriangle& child = next.tris[4 * t + c];
+            PatchTriangle& child = next.tris[first_child + c];
             child.id = child_of(pt.id, c);
-            std::uint32_t* child_names = &next.edge_names[3 * (4 * t + c)];
+            std::uint32_t* child_names = &next.edge_names[3 * (first_child + c)];
             for (int k = 0; k < 3; ++k) {
                 child.v[k] = point[table.point[c][k]];
                 child_names[k] = name[table.name[c][k]];
             }
         }
+        first_child += 4;
     }
     return next;
 }

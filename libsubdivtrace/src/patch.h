@@ -204,7 +204,7 @@ public:
     template <class Pred>
     Patch subdivide_band(const BaseTopology& topo, const SchemeRules& scheme, Pred in_region,
                          Flags& kept) {
-        Patch next = subdivide_topology(topo);
+        Patch next = subdivide_topology(topo, parents_of_band(in_region));
         kept = next.band(in_region);
         Flags needed(next.verts.size(), false);
         for (std::size_t t = 0; t < next.tris.size(); ++t)
@@ -215,6 +215,14 @@ public:
     }
     /// Keeps the triangles flagged in `keep`, drops the rest.
     void keep_only(const Flags& keep) { trim_to(keep); }
+    /// The triangles whose children can lie in the next level's
+    /// band(in_region) (subdivide_band splits only them): those with a
+    /// corner at a triangle with a child in the region. The band's vertices
+    /// are the region's children's corners and their ring neighbours; each
+    /// lies at such a corner or on an edge from one, and so does every
+    /// triangle at one of them. About half of a band two rings wide.
+    template <class Pred>
+    Flags parents_of_band(Pred in_region) const;
 
     void fill_vertex_ring(std::uint32_t v, VertexRing& ring) const;
     /// v's ordered ring as indices (ring_order.h; after finish(), where v has_ring).
@@ -265,7 +273,10 @@ private:
     void name_edges(const BaseTopology& topo);
     void build_edges();
     void compute_normal(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v);
-    Patch subdivide_topology(const BaseTopology& topo) const;
+    /// The next level's triangles (every one of `split` split 1-to-4, in
+    /// order) and its vertices' keys: points for every edge, keyed where a
+    /// split triangle has the edge.
+    Patch subdivide_topology(const BaseTopology& topo, const Flags& split) const;
     void compute_positions(const BaseTopology& topo, const SchemeRules& scheme, Patch& next,
                            const Flags* needed);
     /// Next-level point `point` (old vertex v, or vertices + e for edge e),
@@ -310,6 +321,24 @@ Flags Patch::band(Pred in_region) const {
         keep[t] = dist[v[0]] <= 1 || dist[v[1]] <= 1 || dist[v[2]] <= 1;
     }
     return keep;
+}
+
+template <class Pred>
+Flags Patch::parents_of_band(Pred in_region) const {
+    thread_local Flags near;
+    near.assign(verts.size(), 0);
+    for (const PatchTriangle& t : tris) {
+        bool region = false;
+        for (int c = 0; c < 4 && !region; ++c) region = in_region(child_of(t.id, c));
+        if (region)
+            for (std::uint32_t v : t.v) near[v] = 1;
+    }
+    Flags split(tris.size());
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+        const auto& v = tris[t].v;
+        split[t] = near[v[0]] | near[v[1]] | near[v[2]];
+    }
+    return split;
 }
 
 }  // namespace subdivtrace::detail
