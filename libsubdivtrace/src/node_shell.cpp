@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "float_step.h"
+#include "loop_patch.h"
 
 namespace subdivtrace::detail {
 
@@ -26,32 +27,6 @@ constexpr double k_rounding_slack = 1e-9;
 /// margin), times the coordinates' magnitude; the shell containment test at
 /// 1e6 from the origin holds it.
 constexpr int k_stencil_rounding_steps = 64 * 17;
-
-/// Whether Loop's children of triangle t are all regular patches one level
-/// down: t's corners have whole rings of valence 6 in one sector, with no
-/// boundary or crease edge (then so do its edge points).
-bool regular_loop_children(const Patch& p, std::uint32_t t) {
-    for (std::uint32_t v : p.tris[t].v)
-        if (!p.regular_six(v) || p.derived[v].curve_count != 0) return false;
-    return true;
-}
-
-/// The shell that holds every convex combination of `inner`'s points with
-/// those of `ring` in which `ring` weighs at most `weight`: `inner`, reaching
-/// toward `ring` by that share of how far `ring` lies beyond it (per axis
-/// and along the slab's).
-Shell reaching_toward(const Shell& inner, const Shell& ring, double weight) {
-    Shell s = inner;
-    for (int a = 0; a < 3; ++a) {
-        s.lo[a] -= weight * std::max(0.0, inner.lo[a] - ring.lo[a]);
-        s.hi[a] += weight * std::max(0.0, ring.hi[a] - inner.hi[a]);
-    }
-    if (s.axis != Vec3(0.0)) {
-        s.slab_min -= weight * std::max(0.0, inner.slab_min - ring.slab_min);
-        s.slab_max += weight * std::max(0.0, ring.slab_max - inner.slab_max);
-    }
-    return s;
-}
 
 }  // namespace
 
@@ -89,7 +64,20 @@ Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const
     }
 
     if (tri.id.level < max_level) {
-        if (scheme.convex_rules) {
+        LoopPatchPoints points;
+        if (scheme.convex_rules && loop_patch_points(p, t, points)) {
+            // A regular node draws only points of its Bezier triangle
+            // (loop_patch.h): limit points, and flat triangles between
+            // them, all in the hull of its net. Its control points lie
+            // outside that hull (on the surface's convex side) and are
+            // never drawn, so they are not bounded.
+            shell = Shell{};
+            shell.axis = shell_kind == ShellKind::aabb_slab ? storable_axis(axis) : Vec3(0.0);
+            const LoopBezierNet net = loop_bezier_net(points);
+            if (shell.axis != Vec3(0.0)) shell.slab_min = shell.slab_max = glm::dot(shell.axis, net[0]);
+            for (const Vec3& b : net) shell.grow_both(b);
+            for (int c = 0; c < 3; ++c) shell.grow_both(rec.draw_position[c]);
+        } else if (scheme.convex_rules) {
             // Loop's stencils are convex combinations, so every descendant
             // of a child (and every limit point it draws) lies in the hull of
             // its corners' 1-rings one level down. Over the four children
@@ -97,12 +85,11 @@ Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const
             // of every edge at a corner: half the reach of this level's rings.
             // Across a crease nothing is read (its rules use the crease and
             // one side), so only the corner's sector that holds the node counts.
-            Shell rings = shell;
             for (int c = 0; c < 3; ++c) {
                 const std::uint32_t v = tri.v[c];
                 const bool one_sector = p.derived[v].single_sector;
                 const std::uint16_t sector = p.corner_sector[3 * t + c];
-                rings.grow_both(next->verts[v].position);
+                shell.grow_both(next->verts[v].position);
                 for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
                     const std::uint32_t slot = p.incident_slots[k];
                     if (!one_sector && p.corner_sector[slot] != sector) continue;
@@ -110,24 +97,9 @@ Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const
                     for (std::uint32_t e : {slot, first + (slot % 3 + 2) % 3}) {
                         const PatchEdge& edge = p.edges[p.tri_edges[e]];
                         if (!edge.valid) stencil_cut("an edge point next to a corner");
-                        rings.grow_both(next->verts[edge.point].position);
+                        shell.grow_both(next->verts[edge.point].position);
                     }
                 }
-            }
-            if (regular_loop_children(p, t)) {
-                // Each child's 12 points are its own three (the node's six
-                // points one level down) and nine of the rings', which weigh
-                // at most k_loop_ring_weight in anything below it: the rings
-                // reach half an edge beyond the node on every side, and a ray
-                // near it entered three or four of its children.
-                Shell own = shell;
-                for (int c = 0; c < 3; ++c) {
-                    own.grow_both(next->verts[tri.v[c]].position);
-                    own.grow_both(next->verts[p.edges[p.tri_edges[3 * t + c]].point].position);
-                }
-                shell = reaching_toward(own, rings, k_loop_ring_weight);
-            } else {
-                shell = rings;
             }
         } else {
             // Interpolating: the children's edge points are exact; deeper

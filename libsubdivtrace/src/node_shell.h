@@ -47,16 +47,6 @@ struct CompactShell {
     }
 };
 
-/// Loop over a regular triangle (three vertices of valence 6) is the quartic
-/// box spline of its 12 control points: every point of its limit surface,
-/// and every control point below it at any level, is a convex combination
-/// of them in which the 9 around the triangle weigh at most 1/3 (at its
-/// corners: a limit point is 1/2 its vertex and 1/12 each neighbour, two of
-/// which are the triangle's). descendant_shell reaches from a regular node's
-/// own points toward its rings by this share, rounded up; test_shells.cpp
-/// measures the weight by uniform subdivision.
-constexpr double k_loop_ring_weight = 0.34;
-
 /// The shell of patch triangle t whose record `rec` has its positions, drawn
 /// positions and normals filled in: its corners and drawn points, grown by
 /// the scheme's reach over its descendants (from `next`, the level below,
