@@ -43,6 +43,19 @@ bool locate(const RingIndices& r, std::uint32_t from, std::uint32_t towards, int
     return true;
 }
 
+/// The edge between patch vertices v and w, or -1 (found among v's triangles).
+int edge_between(const Patch& p, std::uint32_t v, std::uint32_t w) {
+    for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
+        const std::uint32_t slot = p.incident_slots[k];
+        const std::uint32_t first = slot - slot % 3;
+        for (std::uint32_t s : {slot, first + (slot % 3 + 2) % 3}) {
+            const PatchEdge& e = p.edges[p.tri_edges[s]];
+            if ((e.a == v && e.b == w) || (e.a == w && e.b == v)) return static_cast<int>(p.tri_edges[s]);
+        }
+    }
+    return -1;
+}
+
 }  // namespace
 
 const std::array<std::array<std::uint8_t, 3>, 15> k_loop_bezier_index = {{
@@ -82,6 +95,152 @@ bool loop_patch_points(const Patch& p, std::uint32_t t, LoopPatchPoints& out) {
     if (a(5) != b(1) || a(2) != c(5) || b(4) != c(2)) return false;
     const std::uint32_t index[12] = {v[0], v[1], v[2], a(3), a(4), a(5), a(2), b(3), b(4), b(2), c(3), c(4)};
     for (int k = 0; k < 12; ++k) out[k] = p.verts[index[k]].position;
+    return true;
+}
+
+void grow_by_corner_ring(const Patch& p, const Patch& next, std::uint32_t t, int c, Shell& shell) {
+    // Across a crease nothing is read (its rules use the crease and one
+    // side), so only the corner's sector that holds t counts.
+    const std::uint32_t v = p.tris[t].v[c];
+    const bool one_sector = p.derived[v].single_sector;
+    const std::uint16_t sector = p.corner_sector[3 * t + c];
+    shell.grow_both(next.verts[v].position);
+    for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
+        const std::uint32_t slot = p.incident_slots[k];
+        if (!one_sector && p.corner_sector[slot] != sector) continue;
+        const std::uint32_t first = slot - slot % 3;
+        for (std::uint32_t e : {slot, first + (slot % 3 + 2) % 3}) {
+            const PatchEdge& edge = p.edges[p.tri_edges[e]];
+            if (!edge.valid) stencil_cut("an edge point next to a corner");
+            shell.grow_both(next.verts[edge.point].position);
+        }
+    }
+}
+
+bool loop_children_points(const Patch& p, const Patch& next, std::uint32_t t, LoopChildren& out) {
+    // Names on the lattice of loop_patch.h, one level down (coordinates
+    // doubled): t is A = (0, 0), B = (2, 0), C = (0, 2); D, E and F lie
+    // across AB, BC and CA; mXY is the point of edge XY, X1 the new X.
+    const auto& v = p.tris[t].v;
+    std::uint32_t across[3];       // D, E, F
+    std::uint32_t side[3][2];      // across edge (X, Y): edges X-third and Y-third
+    for (int k = 0; k < 3; ++k) {
+        const PatchEdge& e = p.edges[p.tri_edges[3 * t + k]];
+        if (e.curve || e.slot_count != 2 || !e.valid) return false;
+        const std::uint32_t other = e.slot[0] / 3 == t ? e.slot[1] : e.slot[0];
+        if (other / 3 == t) return false;
+        const PatchTriangle& u = p.tris[other / 3];
+        const std::uint32_t c = other % 3, first = other - c;
+        across[k] = u.v[(c + 2) % 3];
+        const std::uint32_t x = v[k], y = v[(k + 1) % 3];
+        int to_x = -1, to_y = -1;
+        for (std::uint32_t s : {first + (c + 1) % 3, first + (c + 2) % 3}) {
+            const PatchEdge& f = p.edges[p.tri_edges[s]];
+            const std::uint32_t end = f.a == across[k] ? f.b : f.a;
+            if (end == x) to_x = static_cast<int>(p.tri_edges[s]);
+            if (end == y) to_y = static_cast<int>(p.tri_edges[s]);
+        }
+        if (to_x < 0 || to_y < 0) return false;
+        side[k][0] = static_cast<std::uint32_t>(to_x);
+        side[k][1] = static_cast<std::uint32_t>(to_y);
+    }
+    bool complete = true;
+    const auto vertex_point = [&](std::uint32_t x) {
+        complete = complete && next.verts[x].has_position;
+        return next.verts[x].position;
+    };
+    const auto edge_point = [&](std::uint32_t e) {
+        const std::uint32_t x = p.edges[e].point;
+        complete = complete && p.edges[e].valid && next.verts[x].has_position;
+        return next.verts[x].position;
+    };
+    LoopChildren& o = out;
+    o.A1 = vertex_point(v[0]);
+    o.B1 = vertex_point(v[1]);
+    o.C1 = vertex_point(v[2]);
+    o.mAB = edge_point(p.tri_edges[3 * t]);
+    o.mBC = edge_point(p.tri_edges[3 * t + 1]);
+    o.mCA = edge_point(p.tri_edges[3 * t + 2]);
+    o.mAD = edge_point(side[0][0]);
+    o.mBD = edge_point(side[0][1]);
+    o.mBE = edge_point(side[1][0]);
+    o.mCE = edge_point(side[1][1]);
+    o.mCF = edge_point(side[2][0]);
+    o.mAF = edge_point(side[2][1]);
+    if (!complete) return false;
+
+    // A corner's child is regular where the corner is; its two farther
+    // lattice points are the corner's ring neighbours found as in
+    // loop_patch_points (counter-clockwise: A's ring from B is B, C, F,
+    // (-1, 0), (0, -1), D; B's from A is A, D, (2, -1), (2, 0), E, C; C's
+    // from A is A, B, E, (0, 2), (-1, 2), F).
+    Vec3 far[3][2];
+    for (int c = 0; c < 3; ++c) {
+        bool& regular = o.regular[c];
+        regular = p.regular_six(v[c]) && p.derived[v[c]].curve_count == 0;
+        if (!regular) continue;
+        const std::uint32_t x = v[c];
+        const RingIndices r = p.ring_indices(x);
+        // Where the walk starts, where it heads (so many places on), and the
+        // places of the two neighbours across t's edges (D, E or F).
+        struct Walk {
+            int from, towards, offset, first_k;
+            std::uint32_t first, last;
+        };
+        const Walk walks[3] = {{1, 2, 1, 2, across[2], across[0]},
+                               {0, 2, 5, 1, across[0], across[1]},
+                               {0, 1, 1, 2, across[1], across[2]}};
+        const Walk& w = walks[c];
+        int at = 0, step = 0;
+        const bool found = locate(r, v[w.from], v[w.towards], w.offset, at, step);
+        const auto nbr = [&](int k) { return r.nbrs[(at + k * step) % 6]; };
+        if (!found || nbr(w.first_k) != w.first || nbr(w.first_k + 3) != w.last) {
+            regular = false;
+            continue;
+        }
+        // The two ring neighbours between them, in lattice order.
+        const int e0 = edge_between(p, x, nbr(w.first_k + 1)), e1 = edge_between(p, x, nbr(w.first_k + 2));
+        if (e0 < 0 || e1 < 0) {
+            regular = false;
+            continue;
+        }
+        far[c][0] = edge_point(static_cast<std::uint32_t>(e0));
+        far[c][1] = edge_point(static_cast<std::uint32_t>(e1));
+        if (!complete) return false;
+    }
+    // far[0]: A's (-1, 0), (0, -1); far[1]: B's (2, -1), (2, 0); far[2]:
+    // C's (0, 2), (-1, 2). Each child in LoopPatchPoints' order from its
+    // corner P0 (the middle child is the lattice's triangle turned half a
+    // turn: its points are the template's mirrored through mBC).
+    o.points[3] = {o.mBC, o.mCA, o.mAB, o.mBE, o.mCE, o.C1, o.B1, o.mAF, o.A1, o.mCF, o.mAD, o.mBD};
+    o.points[0] = {o.A1, o.mAB, o.mCA, far[0][0], far[0][1], o.mAD, o.mAF, o.B1, o.mBC, o.mBD, o.C1, o.mCF};
+    o.points[1] = {o.mAB, o.B1, o.mBC, o.A1, o.mAD, o.mBD, o.mCA, far[1][1], o.mBE, far[1][0], o.mCE, o.C1};
+    o.points[2] = {o.mCA, o.mBC, o.C1, o.mAF, o.A1, o.mAB, o.mCF, o.mBE, o.mCE, o.B1, far[2][0], far[2][1]};
+    return true;
+}
+
+bool grow_by_children(const Patch& p, const Patch& next, std::uint32_t t, Shell& shell) {
+    LoopChildren ch;
+    if (!loop_children_points(p, next, t, ch)) return false;
+    const auto grow_by_net = [&](const LoopPatchPoints& points) {
+        for (const Vec3& b : loop_bezier_net(points)) shell.grow_both(b);
+    };
+    grow_by_net(ch.points[3]);  // the middle child is always regular
+    for (int c = 0; c < 3; ++c) {
+        if (ch.regular[c]) {
+            grow_by_net(ch.points[c]);
+            continue;
+        }
+        // Its corners' rings: the corner's, and those of the two edge
+        // points at it (the new corners, t's edge points, and the points of
+        // the edges across the two edges of t at this corner).
+        grow_by_corner_ring(p, next, t, c, shell);
+        for (const Vec3& q : {ch.A1, ch.B1, ch.C1, ch.mAB, ch.mBC, ch.mCA}) shell.grow_both(q);
+        for (const Vec3& q : c == 0   ? std::array<Vec3, 4>{ch.mAD, ch.mBD, ch.mAF, ch.mCF}
+                             : c == 1 ? std::array<Vec3, 4>{ch.mAD, ch.mBD, ch.mBE, ch.mCE}
+                                      : std::array<Vec3, 4>{ch.mBE, ch.mCE, ch.mAF, ch.mCF})
+            shell.grow_both(q);
+    }
     return true;
 }
 

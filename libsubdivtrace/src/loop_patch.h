@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "patch.h"
+#include "subdivtrace/shell.h"
 
 namespace subdivtrace::detail {
 
@@ -35,5 +36,39 @@ LoopBezierNet loop_bezier_net(const LoopPatchPoints& points);
 /// ring of valence 6 in one sector and no curve edge, and the rings agree
 /// on the lattice (false otherwise: the patch is not regular).
 bool loop_patch_points(const Patch& p, std::uint32_t t, LoopPatchPoints& out);
+
+/// Grows `shell` by the corners' rings one level down of patch triangle t's
+/// child at corner c (the whole triangle's bound, corner by corner): the
+/// corner's new position and the points of its edges in t's sector. Loop's
+/// stencils are convex combinations, so what a child draws lies in the hull
+/// of its corners' rings.
+void grow_by_corner_ring(const Patch& p, const Patch& next, std::uint32_t t, int c, Shell& shell);
+
+/// Patch triangle t's children one level down, for Loop's shells: the
+/// points of its neighbourhood there (on the lattice of LoopPatchPoints
+/// with coordinates doubled: t's new corners A1, B1, C1, the points mXY of
+/// its edges and of the edges to the vertices D, E, F across them), and the
+/// control points of each child that is regular (corner children 0, 1, 2
+/// at t's corners, 3 the middle one, which always is).
+struct LoopChildren {
+    Vec3 A1, B1, C1, mAB, mBC, mCA, mAD, mBD, mBE, mCE, mCF, mAF;
+    std::array<bool, 3> regular{};
+    std::array<LoopPatchPoints, 4> points;
+};
+/// Fills `out` for patch triangle t (finished, with `next` its next level's
+/// points around t); false where an edge of t is a boundary or crease, a
+/// point is missing, or the neighbourhood does not fit the lattice.
+bool loop_children_points(const Patch& p, const Patch& next, std::uint32_t t, LoopChildren& out);
+
+/// Grows `shell` by everything Loop draws below patch triangle t (finished,
+/// with `next` its next level's points around t), child by child: the
+/// Bezier net of each child whose corners are regular one level down (the
+/// middle child always, a corner's child where that corner is regular),
+/// else the box of that child's corners' rings one level down. A corner
+/// that is not regular then bounds only its own child, where the rings of
+/// all three corners reached half an edge beyond every corner. False
+/// (shell untouched) where an edge of t is a boundary or crease or the
+/// neighbourhood does not fit the lattice.
+bool grow_by_children(const Patch& p, const Patch& next, std::uint32_t t, Shell& shell);
 
 }  // namespace subdivtrace::detail

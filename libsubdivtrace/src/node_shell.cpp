@@ -64,42 +64,29 @@ Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const
     }
 
     if (tri.id.level < max_level) {
-        LoopPatchPoints points;
-        if (scheme.convex_rules && loop_patch_points(p, t, points)) {
-            // A regular node draws only points of its Bezier triangle
-            // (loop_patch.h): limit points, and flat triangles between
-            // them, all in the hull of its net. Its control points lie
-            // outside that hull (on the surface's convex side) and are
-            // never drawn, so they are not bounded.
-            shell = Shell{};
-            shell.axis = shell_kind == ShellKind::aabb_slab ? storable_axis(axis) : Vec3(0.0);
-            const LoopBezierNet net = loop_bezier_net(points);
-            if (shell.axis != Vec3(0.0)) shell.slab_min = shell.slab_max = glm::dot(shell.axis, net[0]);
-            for (const Vec3& b : net) shell.grow_both(b);
-            for (int c = 0; c < 3; ++c) shell.grow_both(rec.draw_position[c]);
-        } else if (scheme.convex_rules) {
-            // Loop's stencils are convex combinations, so every descendant
-            // of a child (and every limit point it draws) lies in the hull of
-            // its corners' 1-rings one level down. Over the four children
-            // those rings are the corners' new positions and the edge points
-            // of every edge at a corner: half the reach of this level's rings.
-            // Across a crease nothing is read (its rules use the crease and
-            // one side), so only the corner's sector that holds the node counts.
-            for (int c = 0; c < 3; ++c) {
-                const std::uint32_t v = tri.v[c];
-                const bool one_sector = p.derived[v].single_sector;
-                const std::uint16_t sector = p.corner_sector[3 * t + c];
-                shell.grow_both(next->verts[v].position);
-                for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
-                    const std::uint32_t slot = p.incident_slots[k];
-                    if (!one_sector && p.corner_sector[slot] != sector) continue;
-                    const std::uint32_t first = slot - slot % 3;
-                    for (std::uint32_t e : {slot, first + (slot % 3 + 2) % 3}) {
-                        const PatchEdge& edge = p.edges[p.tri_edges[e]];
-                        if (!edge.valid) stencil_cut("an edge point next to a corner");
-                        shell.grow_both(next->verts[edge.point].position);
-                    }
-                }
+        if (scheme.convex_rules) {
+            // Loop draws limit points: below t a ray meets only the limit
+            // surface and flat triangles between its points. Where t's
+            // corners are regular that surface is one Bezier triangle
+            // (loop_patch.h), held by the hull of its net; else it is
+            // bounded child by child (the middle child and the children of
+            // regular corners by their nets, the others by their corners'
+            // rings one level down). t's control points lie off the surface
+            // and are never drawn, so they are not bounded. Where t's edges
+            // are boundaries or creases, the corners' rings one level down
+            // bound it all: Loop's stencils are convex combinations.
+            Shell drawn;
+            drawn.axis = shell.axis;
+            if (drawn.axis != Vec3(0.0)) drawn.slab_min = drawn.slab_max = glm::dot(drawn.axis, rec.draw_position[0]);
+            for (int c = 0; c < 3; ++c) drawn.grow_both(rec.draw_position[c]);
+            LoopPatchPoints points;
+            if (loop_patch_points(p, t, points)) {
+                for (const Vec3& b : loop_bezier_net(points)) drawn.grow_both(b);
+                shell = drawn;
+            } else if (grow_by_children(p, *next, t, drawn)) {
+                shell = drawn;
+            } else {
+                for (int c = 0; c < 3; ++c) grow_by_corner_ring(p, *next, t, c, shell);
             }
         } else {
             // Interpolating: the children's edge points are exact; deeper

@@ -192,6 +192,59 @@ TEST_CASE("Loop's regular patch is the Bezier triangle of its net", "[shells]") 
     CHECK_FALSE(detail::loop_patch_points(p, 0, points));
 }
 
+TEST_CASE("a node's regular children one level down are Bezier triangles of its neighbourhood", "[shells]") {
+    // Loop's shells bound a node child by child (loop_patch.h): the middle
+    // child always, and each corner's child where that corner is regular,
+    // by the Bezier net of its 12 points gathered from the node's level.
+    // A net's corners are the limit points of its triangle's corners, so
+    // they must be uniform subdivision's limit points there: every one of
+    // the 12 lies in the ring of a corner, so a point put in the wrong place
+    // moves one of them.
+    for (const Mesh& mesh : {testmesh::icosahedron(), testmesh::irregular_closed(7), rough_regular_torus()}) {
+        const detail::BaseTopology topo(mesh);
+        const detail::SchemeRules& rules = detail::rules_of(SchemeKind::loop);
+        std::vector<std::uint32_t> faces(mesh.triangles.size());
+        for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = f;
+        detail::Patch p = detail::base_patch(topo, faces.data(), faces.size());
+        for (int level = 0; level <= 1; ++level) {
+            p.finish(topo, rules);
+            detail::Patch next;
+            p.next_positions(topo, rules, nullptr, next);
+            const SubdividedMesh control = subdivide_uniform(mesh, SchemeKind::loop, level + 1);
+            SubdividedMesh limit = control;
+            push_to_limit(limit, SchemeKind::loop);
+            const auto limit_of = [&](const Vec3& at) {
+                for (std::size_t v = 0; v < control.positions.size(); ++v)
+                    if (glm::length(control.positions[v] - at) <= 1e-9) return limit.positions[v];
+                FAIL("no vertex of uniform level " << level + 1 << " at a child's corner");
+                return Vec3(0.0);
+            };
+            std::size_t nets = 0, corner_children = 0;
+            double worst = 0.0;
+            for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
+                detail::LoopChildren ch;
+                REQUIRE(detail::loop_children_points(p, next, t, ch));
+                for (int k = 0; k < 4; ++k) {
+                    if (k < 3 && !ch.regular[k]) continue;
+                    corner_children += k < 3 ? 1 : 0;
+                    const detail::LoopBezierNet net = detail::loop_bezier_net(ch.points[k]);
+                    // b400, b040 and b004: the limit points of corners P0, P1, P2.
+                    const int corner_of[3] = {0, 14, 4};
+                    for (int c = 0; c < 3; ++c)
+                        worst = std::max(worst, glm::length(net[corner_of[c]] - limit_of(ch.points[k][c])));
+                    ++nets;
+                }
+            }
+            INFO(nets << " nets, " << corner_children << " of them corner children, level " << level);
+            CHECK(nets >= p.tris.size());
+            CHECK(worst <= 1e-12);
+            detail::Flags kept;
+            p = p.subdivide_band(topo, rules, [](const NodeId&) { return true; }, kept);
+            p.keep_only(kept);
+        }
+    }
+}
+
 TEST_CASE("conservative slab test keeps rays that graze flat boxes", "[shells]") {
     // A box flat in z (a triangle lying in the plane z = 0.1) and rays that
     // skim it at shallow angles: the plain slab test loses some of these.
