@@ -331,10 +331,10 @@ public:
         context.roots = &roots;
         // A tile that grows is charged its new size (if the cache still
         // holds that very tile: a rebuilt one under its key is not it).
-        context.resized = [this](const detail::Tile& t, const NodeId& root, std::size_t before, std::size_t after) {
+        context.resized = [this](const detail::Tile& t, const NodeId& root, std::size_t bytes) {
             tiles.recharge(
                 detail::TileKey{id, root}, [&](const std::shared_ptr<const CachedTile>& v) { return &v->tile == &t; },
-                before, after);
+                bytes + CachedTile::k_wrapper_bytes);
         };
         context.child_start = [this](const NodeId& root) {
             // Cut from the level below the parent where this thread has it

@@ -216,22 +216,30 @@ public:
         return built[0].first;
     }
 
-    /// Charges the entry under `key` `to` bytes instead of `from` (what its
-    /// value owns grew or shrank), if it is cached and is(value) holds (not
-    /// a rebuilt value under the same key); may evict to keep the budget.
+    /// Charges the entry under `key` for the `owned_bytes` its value owns
+    /// now (it grew or shrank), if it is cached and is(value) holds (not a
+    /// rebuilt value under the same key); may evict to keep the budget.
+    /// The size, not a change of it: a value may change between its build
+    /// and its insertion, or on another thread, where a change would be
+    /// lost, and a later shrink by more than the entry was charged wrapped
+    /// the shard's count round to nearly 2^64, so the shard evicted all but
+    /// its last entries (seen as a flaky eviction count under TSan).
     template <class Is>
-    void recharge(const Key& key, Is is, std::size_t from, std::size_t to) {
+    void recharge(const Key& key, Is is, std::size_t owned_bytes) {
         Shard& s = shard_for(key);
         std::lock_guard<std::mutex> lock(s.mutex);
         auto it = s.map.find(key);
         if (it == s.map.end() || !is(it->second.value)) return;
         Entry& e = it->second;
         CacheOwnerTally& owner = *e.owner;  // the entry itself may be evicted below
-        // Unsigned arithmetic wraps consistently: adding (to - from) is exact.
-        e.bytes += to - from;
-        s.bytes += to - from;
-        total_bytes_.fetch_add(to - from, std::memory_order_relaxed);
-        owner.bytes.fetch_add(to - from, std::memory_order_relaxed);
+        // Every count holds e.bytes, so moving them by (cost - e.bytes) in
+        // unsigned arithmetic lands exactly, never below zero.
+        const std::size_t cost = k_entry_bytes + owned_bytes;
+        const std::size_t change = cost - e.bytes;
+        e.bytes = cost;
+        s.bytes += change;
+        total_bytes_.fetch_add(change, std::memory_order_relaxed);
+        owner.bytes.fetch_add(change, std::memory_order_relaxed);
         evict_over_budget_locked(s);
         atomic_raise(peak_bytes_, total_bytes_.load(std::memory_order_relaxed));
         atomic_raise(owner.peak_bytes, owner.bytes.load(std::memory_order_relaxed));

@@ -375,7 +375,7 @@ void Tile::ensure_level(int j) const {
         }
         q.give_back_derived();  // its arrays serve the next patch this thread finishes
     }
-    if (ctx_->resized) ctx_->resized(*this, root_, before, bytes_held());
+    if (ctx_->resized && bytes_held() != before) ctx_->resized(*this, root_, bytes_held());
 }
 
 void Tile::ensure_deepest_for_children() const {
@@ -395,7 +395,7 @@ Patch Tile::take_deepest_band() const {
         after = bytes_held();
     }
     if (!kept) return band_at(depth_);
-    if (ctx_->resized) ctx_->resized(*this, root_, before, after);
+    if (ctx_->resized && after != before) ctx_->resized(*this, root_, after);
     return std::move(*kept);
 }
 

@@ -45,10 +45,11 @@ struct TileContext {
     /// The base level's records once they are built: a base triangle's tile
     /// takes its level-0 normals from them instead of recomputing them.
     const RootRecords* roots = nullptr;
-    /// Told when a tile grows (a level built on first use, the patch its
-    /// child tiles start from), with its bytes_held() before and after, so
-    /// the cache charges what tiles hold rather than what they might.
-    std::function<void(const Tile& tile, const NodeId& root, std::size_t before, std::size_t after)> resized;
+    /// Told when a tile grows or shrinks (a level built on first use, the
+    /// patch its child tiles start from, kept or given up), with its
+    /// bytes_held() after, so the cache charges what tiles hold rather than
+    /// what they might.
+    std::function<void(const Tile& tile, const NodeId& root, std::size_t bytes)> resized;
     /// Where tile root `root` (level >= 1) builds its later levels from,
     /// as it keeps no band between levels: its first level with its border,
     /// cut from the level below its parent's deepest where this thread still

@@ -278,21 +278,32 @@ TEST_CASE("a grown entry is charged its new size, within the budget", "[cache][m
     CHECK(cache.counters().bytes == count * (entry + 100));
 
     // Another value under the key, or a key not cached: nothing changes.
-    cache.recharge(0, [](int v) { return v != 0; }, 100, 5000);
-    cache.recharge(-1, [](int) { return true; }, 100, 5000);
+    cache.recharge(0, [](int v) { return v != 0; }, 5000);
+    cache.recharge(-1, [](int) { return true; }, 5000);
     CHECK(cache.counters().bytes == count * (entry + 100));
     CHECK(owner.bytes.load() == count * (entry + 100));
 
     // Growing and shrinking one entry moves the totals by exactly that much.
-    cache.recharge(1, [](int v) { return v == 1; }, 100, 700);
+    cache.recharge(1, [](int v) { return v == 1; }, 700);
     CHECK(cache.counters().bytes == count * (entry + 100) + 600);
-    cache.recharge(1, [](int v) { return v == 1; }, 700, 100);
+    cache.recharge(1, [](int v) { return v == 1; }, 100);
     CHECK(cache.counters().bytes == count * (entry + 100));
     CHECK(owner.bytes.load() == count * (entry + 100));
 
+    // A charge is the value's size, whatever was reported before: shrinking
+    // an entry charged 100 to 40 (its growth to 7,000 was never told, as
+    // when a value grows before it is inserted) leaves it charged 40, and
+    // nothing is evicted. Told as a change from 7,000 to 40, the shard's
+    // count wrapped below zero and it evicted every entry but two.
+    cache.recharge(2, [](int v) { return v == 2; }, 40);
+    CHECK(cache.counters().bytes == count * (entry + 100) - 60);
+    CHECK(owner.bytes.load() == count * (entry + 100) - 60);
+    CHECK(cache.counters().evictions == 0);
+    cache.recharge(2, [](int v) { return v == 2; }, 100);
+
     // Every entry grows tenfold: the cache evicts to stay within its budget
     // (each shard keeps at least 2 entries).
-    for (int k = 0; k < count; ++k) cache.recharge(k, [k](int v) { return v == k; }, 100, 1000);
+    for (int k = 0; k < count; ++k) cache.recharge(k, [k](int v) { return v == k; }, 1000);
     const detail::CacheCounters c = cache.counters();
     CHECK(c.evictions > 0);
     CHECK(c.bytes <= budget + 2 * Cache::k_shards * (entry + 1000));
