@@ -350,7 +350,6 @@ void Tile::ensure_level(int j) const {
     std::lock_guard<SpinLock> lock(lock_);
     const int built = ready_.load(std::memory_order_relaxed);
     if (built >= j) return;  // another thread built it
-    const std::size_t before = bytes_held();
     // The band of the level built last: kept, or derived again (band_at
     // times itself, as the parent's builds time their own).
     auto* self = const_cast<Tile*>(this);
@@ -375,7 +374,7 @@ void Tile::ensure_level(int j) const {
         }
         q.give_back_derived();  // its arrays serve the next patch this thread finishes
     }
-    if (ctx_->resized && bytes_held() != before) ctx_->resized(*this, root_, bytes_held());
+    if (ctx_->resized) ctx_->resized(*this, root_, bytes_held());
 }
 
 void Tile::ensure_deepest_for_children() const {
@@ -387,15 +386,14 @@ void Tile::ensure_deepest_for_children() const {
 Patch Tile::take_deepest_band() const {
     ensure_deepest_for_children();
     std::unique_ptr<Patch> kept;
-    std::size_t before = 0, after = 0;
+    std::size_t after = 0;
     {
         const std::lock_guard<SpinLock> lock(lock_);
-        before = bytes_held();
         kept = std::move(const_cast<Tile*>(this)->frontier_);
         after = bytes_held();
     }
     if (!kept) return band_at(depth_);
-    if (ctx_->resized && after != before) ctx_->resized(*this, root_, after);
+    if (ctx_->resized) ctx_->resized(*this, root_, after);
     return std::move(*kept);
 }
 
