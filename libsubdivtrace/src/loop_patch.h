@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "patch.h"
 #include "subdivtrace/shell.h"
@@ -52,6 +53,7 @@ void grow_by_corner_ring(const Patch& p, const Patch& next, std::uint32_t t, int
 /// at t's corners, 3 the middle one, which always is).
 struct LoopChildren {
     Vec3 A1, B1, C1, mAB, mBC, mCA, mAD, mBD, mBE, mCE, mCF, mAF;
+    std::array<std::uint32_t, 3> across{};  ///< patch vertices D, E, F
     std::array<bool, 3> regular{};
     std::array<LoopPatchPoints, 4> points;
 };
@@ -60,15 +62,33 @@ struct LoopChildren {
 /// point is missing, or the neighbourhood does not fit the lattice.
 bool loop_children_points(const Patch& p, const Patch& next, std::uint32_t t, LoopChildren& out);
 
+/// The child at corner c of patch triangle t, where that corner is not
+/// regular, one level further down (two below t): its middle child and the
+/// children at its two edge points are regular there, so Bezier triangles
+/// of points computed from `ch` and the corner's ring one level down; the
+/// child at the corner itself is bounded by the control points it depends
+/// on (its 1-ring neighbourhood), which reach a quarter of t's edges around
+/// the corner, where the corner child's own neighbourhood reached t's far
+/// corners. The points two levels down are Loop's rules applied to those
+/// one level down. Each lies in `out` (LoopPatchPoints order for the three
+/// nets, then the neighbourhood's points). False where the corner is on a
+/// boundary or crease, or its ring does not fit.
+struct LoopCornerGrandchildren {
+    std::array<LoopPatchPoints, 3> nets;  ///< middle, at the first edge point, at the second
+    std::vector<Vec3> corner_support;     ///< the corner's child's control points
+};
+bool loop_corner_grandchildren(const Patch& p, const Patch& next, std::uint32_t t, int c,
+                               const LoopChildren& ch, LoopCornerGrandchildren& out);
+
 /// Grows `shell` by everything Loop draws below patch triangle t (finished,
 /// with `next` its next level's points around t), child by child: the
 /// Bezier net of each child whose corners are regular one level down (the
-/// middle child always, a corner's child where that corner is regular),
-/// else the box of that child's corners' rings one level down. A corner
-/// that is not regular then bounds only its own child, where the rings of
-/// all three corners reached half an edge beyond every corner. False
-/// (shell untouched) where an edge of t is a boundary or crease or the
-/// neighbourhood does not fit the lattice.
+/// middle child always, a corner's child where that corner is regular);
+/// a child at a corner that is not regular, grandchild by grandchild
+/// (loop_corner_grandchildren), or where that does not apply, by the box of
+/// its corners' rings one level down. False (shell untouched) where an edge
+/// of t is a boundary or crease or the neighbourhood does not fit the
+/// lattice.
 bool grow_by_children(const Patch& p, const Patch& next, std::uint32_t t, Shell& shell);
 
 }  // namespace subdivtrace::detail

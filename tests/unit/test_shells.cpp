@@ -261,3 +261,99 @@ TEST_CASE("conservative slab test keeps rays that graze flat boxes", "[shells]")
     }
     CHECK(kept == total);
 }
+
+TEST_CASE("an irregular corner's child two levels down: Bezier triangles and the corner's support", "[shells]") {
+    // Where a node's corner is not regular, its child there is bounded by
+    // its own children (loop_corner_grandchildren): three Bezier triangles
+    // and the control points the corner's grandchild depends on, all
+    // computed from one level down. Each net's corners must be uniform
+    // subdivision's limit points of its triangle's corners two levels down
+    // (a point in the wrong place moves one), and every corner a descendant
+    // of each grandchild draws, three levels further, must lie in the box
+    // of its net, or of the support for the corner's grandchild.
+    constexpr int below = 3;
+    for (const Mesh& mesh : {testmesh::icosahedron(), testmesh::irregular_closed(7), testmesh::high_valence_fan(12)}) {
+        const detail::BaseTopology topo(mesh);
+        const detail::SchemeRules& rules = detail::rules_of(SchemeKind::loop);
+        std::vector<std::uint32_t> faces(mesh.triangles.size());
+        for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = f;
+        detail::Patch p = detail::base_patch(topo, faces.data(), faces.size());
+        const Hierarchy h(mesh, SchemeKind::loop, 1 + 2 + below, std::size_t{512} << 20);
+        for (int level = 0; level <= 1; ++level) {
+            p.finish(topo, rules);
+            detail::Patch next;
+            p.next_positions(topo, rules, nullptr, next);
+            const SubdividedMesh control = subdivide_uniform(mesh, SchemeKind::loop, level + 2);
+            SubdividedMesh limit = control;
+            push_to_limit(limit, SchemeKind::loop);
+            const auto vertex_at = [&](const Vec3& at) -> std::size_t {
+                for (std::size_t v = 0; v < control.positions.size(); ++v)
+                    if (glm::length(control.positions[v] - at) <= 1e-9) return v;
+                return control.positions.size();
+            };
+            std::size_t corners = 0, nets = 0, drawn = 0, outside = 0;
+            double worst = 0.0;
+            for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
+                detail::LoopChildren ch;
+                REQUIRE(detail::loop_children_points(p, next, t, ch));
+                for (int c = 0; c < 3; ++c) {
+                    detail::LoopCornerGrandchildren g;
+                    if (ch.regular[c] || !detail::loop_corner_grandchildren(p, next, t, c, ch, g)) continue;
+                    ++corners;
+                    // Every point computed two levels down is a vertex there.
+                    for (const Vec3& x : g.corner_support) CHECK(vertex_at(x) < control.positions.size());
+                    std::array<Shell, 3> net_boxes;
+                    for (int k = 0; k < 3; ++k) {
+                        const detail::LoopBezierNet net = detail::loop_bezier_net(g.nets[k]);
+                        const int corner_of[3] = {0, 14, 4};
+                        for (int q = 0; q < 3; ++q) {
+                            const std::size_t v = vertex_at(g.nets[k][q]);
+                            REQUIRE(v < control.positions.size());
+                            worst = std::max(worst, glm::length(net[corner_of[q]] - limit.positions[v]));
+                        }
+                        for (const Vec3& b : net) net_boxes[k].grow(b);
+                        ++nets;
+                    }
+                    Shell support;
+                    for (const Vec3& x : g.corner_support) support.grow(x);
+                    // The grandchildren in the hierarchy, told apart by their corners.
+                    const NodeId child = child_of(p.tris[t].id, c);
+                    for (int k = 0; k < 4; ++k) {
+                        const NodeId grandchild = child_of(child, k);
+                        const NodeRecord rec = h.node(grandchild);
+                        const Shell* box = &support;
+                        // (The nets list a triangle's corners from another one.)
+                        const auto is_corner_of = [&](const Vec3& x, int n) {
+                            for (int q = 0; q < 3; ++q)
+                                if (glm::length(x - g.nets[n][q]) <= 1e-12) return true;
+                            return false;
+                        };
+                        for (int n = 0; n < 3; ++n)
+                            if (is_corner_of(rec.position[0], n) && is_corner_of(rec.position[1], n) &&
+                                is_corner_of(rec.position[2], n))
+                                box = &net_boxes[n];
+                        const double slack = 1e-12 * glm::length(box->hi - box->lo);
+                        std::function<void(const NodeId&)> walk = [&](const NodeId& id) {
+                            const NodeRecord r = h.node(id);
+                            for (const Vec3& x : r.draw_position) {
+                                ++drawn;
+                                const Vec3 out = glm::max(box->lo - x, x - box->hi);
+                                if (std::max({out.x, out.y, out.z}) > slack) ++outside;
+                            }
+                            if (id.level < grandchild.level + below)
+                                for (int q = 0; q < 4; ++q) walk(child_of(id, q));
+                        };
+                        walk(grandchild);
+                    }
+                }
+            }
+            INFO(corners << " irregular corners, " << nets << " nets, " << drawn << " drawn corners, level " << level);
+            CHECK(corners > 0);
+            CHECK(worst <= 1e-12);
+            CHECK(outside == 0);
+            detail::Flags kept;
+            p = p.subdivide_band(topo, rules, [](const NodeId&) { return true; }, kept);
+            p.keep_only(kept);
+        }
+    }
+}
