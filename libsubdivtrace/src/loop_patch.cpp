@@ -1,6 +1,7 @@
 #include "loop_patch.h"
 
 #include <initializer_list>
+#include <utility>
 
 #include "subdivtrace/scheme.h"
 
@@ -224,27 +225,24 @@ bool loop_children_points(const Patch& p, const Patch& next, std::uint32_t t, Lo
     return true;
 }
 
-bool loop_corner_grandchildren(const Patch& p, const Patch& next, std::uint32_t t, int c,
-                               const LoopChildren& ch, LoopCornerGrandchildren& out) {
-    // Names one level down, turned so that the corner is P: its child is
-    // (P, X, Y) with X on the edge to the next corner and Y on the edge from
-    // the previous one, M the third edge point of t; XB and YC are t's other
-    // corners, XD1, XD2 the points of the edges from P and X to the vertex
-    // across PX's edge of t, YF1, YF2 those from P and Y to the one across
-    // Y's. On the lattice of loop_patch.h with coordinates doubled again:
-    // P = (0, 0), X = (2, 0), Y = (0, 2), M = (2, 2), XB = (4, 0),
-    // YC = (0, 4), XD1 = (2, -2), XD2 = (4, -2), YF1 = (-2, 2), YF2 = (-2, 4).
+void LoopCornerFrame::grow(Shell& shell) const {
+    for (const Vec3& x : {P, M, XB, YC, XD2, YF2}) shell.grow_both(x);
+    for (const Vec3& x : ring) shell.grow_both(x);  // X, Y, XD1 and YF1 among them
+}
+
+bool loop_corner_frame(const Patch& p, const Patch& next, std::uint32_t t, int c, const LoopChildren& ch,
+                       LoopCornerFrame& out) {
+    // The frame's points one level down, turned so that corner c is P.
     const Vec3* const named[3][10] = {
         {&ch.A1, &ch.mAB, &ch.mCA, &ch.mBC, &ch.B1, &ch.C1, &ch.mAD, &ch.mBD, &ch.mAF, &ch.mCF},
         {&ch.B1, &ch.mBC, &ch.mAB, &ch.mCA, &ch.C1, &ch.A1, &ch.mBE, &ch.mCE, &ch.mBD, &ch.mAD},
         {&ch.C1, &ch.mCA, &ch.mBC, &ch.mAB, &ch.A1, &ch.B1, &ch.mCF, &ch.mAF, &ch.mCE, &ch.mBE}};
-    const Vec3 &P = *named[c][0], &X = *named[c][1], &Y = *named[c][2], &M = *named[c][3],
-               &XB = *named[c][4], &YC = *named[c][5], &XD1 = *named[c][6], &XD2 = *named[c][7],
-               &YF1 = *named[c][8], &YF2 = *named[c][9];
+    Vec3* const frame[10] = {&out.P, &out.X, &out.Y, &out.M, &out.XB, &out.YC, &out.XD1, &out.XD2, &out.YF1, &out.YF2};
+    for (int k = 0; k < 10; ++k) *frame[k] = *named[c][k];
 
     // P's ring one level down, counter-clockwise from X: the points of its
-    // edges, X, Y, YF1, ..., XD1. Only a smooth interior corner: on a
-    // boundary or crease the rules below are not Loop's there.
+    // edges. Only a smooth interior corner: on a boundary or crease the
+    // rules refine_corner_frame applies are not Loop's there.
     const std::uint32_t v = p.tris[t].v[c];
     const VertexDerived& d = p.derived[v];
     if (!d.has_ring || !d.single_sector || d.curve_count != 0) return false;
@@ -263,21 +261,18 @@ bool loop_corner_grandchildren(const Patch& p, const Patch& next, std::uint32_t 
     const auto nbr = [&](std::uint32_t k) { return r.nbrs[(at + k * step) % n]; };
     // The vertices across t's edges at P must close its ring as the lattice says.
     if (nbr(2) != ch.across[(c + 2) % 3] || nbr(n - 1) != ch.across[c]) return false;
-    thread_local VertexRing ring;
-    ring.center = P;
-    ring.nbrs.resize(n);
-    ring.closed = true;
-    ring.regular = true;
-    ring.curve_count = 0;
+    out.ring.resize(n);
     for (std::uint32_t k = 0; k < n; ++k) {
         const int e = edge_between(p, v, nbr(k));
         if (e < 0) return false;
         const PatchEdge& edge = p.edges[static_cast<std::uint32_t>(e)];
         if (!edge.valid || !next.verts[edge.point].has_position) return false;
-        ring.nbrs[k] = next.verts[edge.point].position;
+        out.ring[k] = next.verts[edge.point].position;
     }
+    return true;
+}
 
-    // Two levels down: Loop's interior rules on the points one level down.
+void refine_corner_frame(const LoopCornerFrame& f, std::array<LoopPatchPoints, 3>& nets, LoopCornerFrame& below) {
     const auto edge_point = [](const Vec3& a, const Vec3& b, const Vec3& left, const Vec3& right) {
         EdgeStencil s;
         s.a = a;
@@ -287,40 +282,54 @@ bool loop_corner_grandchildren(const Patch& p, const Patch& next, std::uint32_t 
         s.d = right;
         return loop_edge_point(s);
     };
-    const auto regular_vertex_point = [](const Vec3& centre, std::initializer_list<Vec3> nbrs) {
-        VertexRing six;
-        six.center = centre;
-        six.nbrs.assign(nbrs.begin(), nbrs.end());
-        six.closed = true;
-        return loop_vertex_point(six);
+    const auto vertex_point = [](const Vec3& centre, const Vec3* nbrs, std::size_t count) {
+        thread_local VertexRing ring;
+        ring.center = centre;
+        ring.nbrs.assign(nbrs, nbrs + count);
+        ring.closed = true;
+        ring.regular = true;
+        ring.curve_count = 0;
+        return loop_vertex_point(ring);
     };
-    const Vec3 P2 = loop_vertex_point(ring);
-    const Vec3 X2 = regular_vertex_point(X, {P, XD1, XD2, XB, M, Y});
-    const Vec3 Y2 = regular_vertex_point(Y, {P, X, M, YC, YF2, YF1});
-    // q[k]: the point of P's edge to ring point k (q[0] on PX, q[1] on PY).
-    thread_local std::vector<Vec3> q;
-    q.resize(n);
-    for (std::uint32_t k = 0; k < n; ++k)
-        q[k] = edge_point(P, ring.nbrs[k], ring.nbrs[(k + n - 1) % n], ring.nbrs[(k + 1) % n]);
-    const Vec3 nXY = edge_point(X, Y, P, M);
-    const Vec3 nXD1 = edge_point(X, XD1, P, XD2);
-    const Vec3 nXD2 = edge_point(X, XD2, XD1, XB);
-    const Vec3 nXB = edge_point(X, XB, XD2, M);
-    const Vec3 nXM = edge_point(X, M, XB, Y);
-    const Vec3 nYM = edge_point(Y, M, X, YC);
-    const Vec3 nYC = edge_point(Y, YC, M, YF2);
-    const Vec3 nYF2 = edge_point(Y, YF2, YC, YF1);
-    const Vec3 nYF1 = edge_point(Y, YF1, YF2, P);
+    const std::size_t n = f.ring.size();
+    // One level down the lattice's spacing halves: P2 = (0, 0), q[k] on P's
+    // edge to ring point k (q[0] = (1, 0), q[1] = (0, 1)), X2 = (2, 0),
+    // Y2 = (0, 2), and the points of the frame's other edges.
+    const Vec3 P2 = vertex_point(f.P, f.ring.data(), n);
+    const Vec3 x_ring[6] = {f.P, f.XD1, f.XD2, f.XB, f.M, f.Y};
+    const Vec3 y_ring[6] = {f.P, f.X, f.M, f.YC, f.YF2, f.YF1};
+    const Vec3 X2 = vertex_point(f.X, x_ring, 6);
+    const Vec3 Y2 = vertex_point(f.Y, y_ring, 6);
+    below.ring.resize(n);
+    std::vector<Vec3>& q = below.ring;
+    for (std::size_t k = 0; k < n; ++k)
+        q[k] = edge_point(f.P, f.ring[k], f.ring[(k + n - 1) % n], f.ring[(k + 1) % n]);
+    const Vec3 nXY = edge_point(f.X, f.Y, f.P, f.M);       // (1, 1)
+    const Vec3 nXD1 = edge_point(f.X, f.XD1, f.P, f.XD2);  // (2, -1)
+    const Vec3 nXD2 = edge_point(f.X, f.XD2, f.XD1, f.XB); // (3, -1)
+    const Vec3 nXB = edge_point(f.X, f.XB, f.XD2, f.M);    // (3, 0)
+    const Vec3 nXM = edge_point(f.X, f.M, f.XB, f.Y);      // (2, 1)
+    const Vec3 nYM = edge_point(f.Y, f.M, f.X, f.YC);      // (1, 2)
+    const Vec3 nYC = edge_point(f.Y, f.YC, f.M, f.YF2);    // (0, 3)
+    const Vec3 nYF2 = edge_point(f.Y, f.YF2, f.YC, f.YF1); // (-1, 3)
+    const Vec3 nYF1 = edge_point(f.Y, f.YF1, f.YF2, f.P);  // (-1, 2)
     const Vec3 &q0 = q[0], &q1 = q[1], &q2 = q[2], &qlast = q[n - 1];
 
     // As LoopChildren's middle and corner children, with (P, X, Y) for (A, B, C).
-    out.nets[0] = {nXY, q1, q0, nXM, nYM, Y2, X2, q2, P2, nYF1, qlast, nXD1};
-    out.nets[1] = {q0, X2, nXY, P2, qlast, nXD1, q1, nXB, nXM, nXD2, nYM, Y2};
-    out.nets[2] = {q1, nXY, Y2, q2, P2, q0, nYF1, nXM, nYM, X2, nYC, nYF2};
-    // The corner's grandchild (P2, q0, q1) and every triangle at one of its corners.
-    out.corner_support.assign(q.begin(), q.end());
-    for (const Vec3& x : {P2, nXD1, X2, nXY, Y2, nYF1}) out.corner_support.push_back(x);
-    return true;
+    nets[0] = {nXY, q1, q0, nXM, nYM, Y2, X2, q2, P2, nYF1, qlast, nXD1};
+    nets[1] = {q0, X2, nXY, P2, qlast, nXD1, q1, nXB, nXM, nXD2, nYM, Y2};
+    nets[2] = {q1, nXY, Y2, q2, P2, q0, nYF1, nXM, nYM, X2, nYC, nYF2};
+    // The child at P, (P2, q0, q1), and its neighbourhood: the frame again.
+    below.P = P2;
+    below.X = q0;
+    below.Y = q1;
+    below.M = nXY;
+    below.XB = X2;
+    below.YC = Y2;
+    below.XD1 = qlast;
+    below.XD2 = nXD1;
+    below.YF1 = q2;
+    below.YF2 = nYF1;
 }
 
 bool grow_by_children(const Patch& p, const Patch& next, std::uint32_t t, Shell& shell) {
@@ -335,10 +344,15 @@ bool grow_by_children(const Patch& p, const Patch& next, std::uint32_t t, Shell&
             grow_by_net(ch.points[c]);
             continue;
         }
-        thread_local LoopCornerGrandchildren grand;
-        if (loop_corner_grandchildren(p, next, t, c, ch, grand)) {
-            for (const LoopPatchPoints& net : grand.nets) grow_by_net(net);
-            for (const Vec3& x : grand.corner_support) shell.grow_both(x);
+        thread_local LoopCornerFrame frame, below;
+        if (loop_corner_frame(p, next, t, c, ch, frame)) {
+            std::array<LoopPatchPoints, 3> nets;
+            for (int level = 0; level < k_loop_corner_levels; ++level) {
+                refine_corner_frame(frame, nets, below);
+                for (const LoopPatchPoints& net : nets) grow_by_net(net);
+                std::swap(frame, below);
+            }
+            frame.grow(shell);
             continue;
         }
         // Its corners' rings: the corner's, and those of the two edge

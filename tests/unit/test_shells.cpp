@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -262,93 +263,128 @@ TEST_CASE("conservative slab test keeps rays that graze flat boxes", "[shells]")
     CHECK(kept == total);
 }
 
-TEST_CASE("an irregular corner's child two levels down: Bezier triangles and the corner's support", "[shells]") {
+TEST_CASE("an irregular corner's child refined level by level: Bezier triangles and the corner's frame", "[shells]") {
     // Where a node's corner is not regular, its child there is bounded by
-    // its own children (loop_corner_grandchildren): three Bezier triangles
-    // and the control points the corner's grandchild depends on, all
-    // computed from one level down. Each net's corners must be uniform
-    // subdivision's limit points of its triangle's corners two levels down
-    // (a point in the wrong place moves one), and every corner a descendant
-    // of each grandchild draws, three levels further, must lie in the box
-    // of its net, or of the support for the corner's grandchild.
-    constexpr int below = 3;
+    // the frame of control points it depends on (loop_corner_frame),
+    // refined level by level (refine_corner_frame): three Bezier triangles
+    // a level, and the frame of the child left at the corner. Every point
+    // of a frame must be a vertex of uniform subdivision at its level, each
+    // net's corners the limit points of its triangle's corners there (a
+    // point in the wrong place moves one), and every corner a descendant
+    // draws, two levels below, must lie in the box of its net, or of the
+    // last frame for the child at the corner.
+    constexpr int refinements = 2, below = 2;
     for (const Mesh& mesh : {testmesh::icosahedron(), testmesh::irregular_closed(7), testmesh::high_valence_fan(12)}) {
         const detail::BaseTopology topo(mesh);
         const detail::SchemeRules& rules = detail::rules_of(SchemeKind::loop);
         std::vector<std::uint32_t> faces(mesh.triangles.size());
         for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = f;
         detail::Patch p = detail::base_patch(topo, faces.data(), faces.size());
-        const Hierarchy h(mesh, SchemeKind::loop, 1 + 2 + below, std::size_t{512} << 20);
+        const Hierarchy h(mesh, SchemeKind::loop, 2 + refinements + below, std::size_t{512} << 20);
+        // Uniform levels 1 .. 2 + refinements: control points, sorted by x
+        // to be found, and their limit points.
+        struct Level {
+            SubdividedMesh control, limit;
+            std::vector<std::pair<double, std::size_t>> by_x;
+        };
+        std::vector<Level> uniform(3 + refinements);
+        for (int level = 1; level < static_cast<int>(uniform.size()); ++level) {
+            Level& u = uniform[level];
+            u.control = subdivide_uniform(mesh, SchemeKind::loop, level);
+            u.limit = u.control;
+            push_to_limit(u.limit, SchemeKind::loop);
+            for (std::size_t v = 0; v < u.control.positions.size(); ++v) u.by_x.push_back({u.control.positions[v].x, v});
+            std::sort(u.by_x.begin(), u.by_x.end());
+        }
+        // The vertex of uniform level `level` at `at`, or none.
+        const auto vertex_at = [&](int level, const Vec3& at) -> std::optional<std::size_t> {
+            const Level& u = uniform[level];
+            for (auto it = std::lower_bound(u.by_x.begin(), u.by_x.end(), std::make_pair(at.x - 1e-9, std::size_t{0}));
+                 it != u.by_x.end() && it->first <= at.x + 1e-9; ++it)
+                if (glm::length(u.control.positions[it->second] - at) <= 1e-9) return it->second;
+            return std::nullopt;
+        };
         for (int level = 0; level <= 1; ++level) {
             p.finish(topo, rules);
             detail::Patch next;
             p.next_positions(topo, rules, nullptr, next);
-            const SubdividedMesh control = subdivide_uniform(mesh, SchemeKind::loop, level + 2);
-            SubdividedMesh limit = control;
-            push_to_limit(limit, SchemeKind::loop);
-            const auto vertex_at = [&](const Vec3& at) -> std::size_t {
-                for (std::size_t v = 0; v < control.positions.size(); ++v)
-                    if (glm::length(control.positions[v] - at) <= 1e-9) return v;
-                return control.positions.size();
-            };
-            std::size_t corners = 0, nets = 0, drawn = 0, outside = 0;
+            std::size_t corners = 0, nets = 0, drawn = 0, outside = 0, not_vertices = 0;
             double worst = 0.0;
+            const auto check_frame = [&](const detail::LoopCornerFrame& f, int at_level) {
+                for (const Vec3& x : {f.P, f.X, f.Y, f.M, f.XB, f.YC, f.XD1, f.XD2, f.YF1, f.YF2})
+                    not_vertices += vertex_at(at_level, x) ? 0 : 1;
+                for (const Vec3& x : f.ring) not_vertices += vertex_at(at_level, x) ? 0 : 1;
+            };
+            // Every corner drawn below `id`, `below` levels down, in `box`.
+            const auto check_descendants = [&](const NodeId& top, const Shell& box) {
+                const double slack = 1e-12 * glm::length(box.hi - box.lo);
+                std::function<void(const NodeId&)> walk = [&](const NodeId& id) {
+                    for (const Vec3& x : h.node(id).draw_position) {
+                        ++drawn;
+                        const Vec3 out = glm::max(box.lo - x, x - box.hi);
+                        if (std::max({out.x, out.y, out.z}) > slack) ++outside;
+                    }
+                    if (id.level < top.level + below)
+                        for (int q = 0; q < 4; ++q) walk(child_of(id, q));
+                };
+                walk(top);
+            };
             for (std::uint32_t t = 0; t < p.tris.size(); ++t) {
                 detail::LoopChildren ch;
                 REQUIRE(detail::loop_children_points(p, next, t, ch));
                 for (int c = 0; c < 3; ++c) {
-                    detail::LoopCornerGrandchildren g;
-                    if (ch.regular[c] || !detail::loop_corner_grandchildren(p, next, t, c, ch, g)) continue;
+                    detail::LoopCornerFrame frame, refined;
+                    if (ch.regular[c] || !detail::loop_corner_frame(p, next, t, c, ch, frame)) continue;
                     ++corners;
-                    // Every point computed two levels down is a vertex there.
-                    for (const Vec3& x : g.corner_support) CHECK(vertex_at(x) < control.positions.size());
-                    std::array<Shell, 3> net_boxes;
-                    for (int k = 0; k < 3; ++k) {
-                        const detail::LoopBezierNet net = detail::loop_bezier_net(g.nets[k]);
-                        const int corner_of[3] = {0, 14, 4};
-                        for (int q = 0; q < 3; ++q) {
-                            const std::size_t v = vertex_at(g.nets[k][q]);
-                            REQUIRE(v < control.positions.size());
-                            worst = std::max(worst, glm::length(net[corner_of[q]] - limit.positions[v]));
-                        }
-                        for (const Vec3& b : net) net_boxes[k].grow(b);
-                        ++nets;
-                    }
-                    Shell support;
-                    for (const Vec3& x : g.corner_support) support.grow(x);
-                    // The grandchildren in the hierarchy, told apart by their corners.
-                    const NodeId child = child_of(p.tris[t].id, c);
-                    for (int k = 0; k < 4; ++k) {
-                        const NodeId grandchild = child_of(child, k);
-                        const NodeRecord rec = h.node(grandchild);
-                        const Shell* box = &support;
-                        // (The nets list a triangle's corners from another one.)
-                        const auto is_corner_of = [&](const Vec3& x, int n) {
-                            for (int q = 0; q < 3; ++q)
-                                if (glm::length(x - g.nets[n][q]) <= 1e-12) return true;
-                            return false;
-                        };
-                        for (int n = 0; n < 3; ++n)
-                            if (is_corner_of(rec.position[0], n) && is_corner_of(rec.position[1], n) &&
-                                is_corner_of(rec.position[2], n))
-                                box = &net_boxes[n];
-                        const double slack = 1e-12 * glm::length(box->hi - box->lo);
-                        std::function<void(const NodeId&)> walk = [&](const NodeId& id) {
-                            const NodeRecord r = h.node(id);
-                            for (const Vec3& x : r.draw_position) {
-                                ++drawn;
-                                const Vec3 out = glm::max(box->lo - x, x - box->hi);
-                                if (std::max({out.x, out.y, out.z}) > slack) ++outside;
+                    check_frame(frame, level + 1);
+                    NodeId node = child_of(p.tris[t].id, c);  // the corner's child
+                    for (int r = 1; r <= refinements; ++r) {
+                        std::array<detail::LoopPatchPoints, 3> points;
+                        detail::refine_corner_frame(frame, points, refined);
+                        frame = refined;
+                        const int at_level = level + 1 + r;
+                        check_frame(frame, at_level);
+                        // The node's children: three by their nets, told
+                        // apart by their corners, the fourth at the corner.
+                        NodeId at_corner = node;
+                        for (int k = 0; k < 4; ++k) {
+                            const NodeId child = child_of(node, k);
+                            const NodeRecord rec = h.node(child);
+                            int which = -1;
+                            for (int n = 0; n < 3; ++n) {
+                                int shared = 0;
+                                for (const Vec3& x : rec.position)
+                                    for (int q = 0; q < 3; ++q) shared += glm::length(x - points[n][q]) <= 1e-12 ? 1 : 0;
+                                if (shared == 3) which = n;
                             }
-                            if (id.level < grandchild.level + below)
-                                for (int q = 0; q < 4; ++q) walk(child_of(id, q));
-                        };
-                        walk(grandchild);
+                            if (which < 0) {
+                                at_corner = child;
+                                continue;
+                            }
+                            const detail::LoopBezierNet net = detail::loop_bezier_net(points[which]);
+                            const int corner_of[3] = {0, 14, 4};
+                            for (int q = 0; q < 3; ++q) {
+                                const std::optional<std::size_t> v = vertex_at(at_level, points[which][q]);
+                                REQUIRE(v);
+                                worst = std::max(worst, glm::length(net[corner_of[q]] - uniform[at_level].limit.positions[*v]));
+                            }
+                            Shell box;
+                            for (const Vec3& b : net) box.grow(b);
+                            check_descendants(child, box);
+                            ++nets;
+                        }
+                        REQUIRE_FALSE(at_corner == node);
+                        node = at_corner;
                     }
+                    Shell hull;
+                    frame.grow(hull);
+                    check_descendants(node, hull);
                 }
             }
             INFO(corners << " irregular corners, " << nets << " nets, " << drawn << " drawn corners, level " << level);
             CHECK(corners > 0);
+            CHECK(nets == 3 * refinements * corners);
+            CHECK(not_vertices == 0);
             CHECK(worst <= 1e-12);
             CHECK(outside == 0);
             detail::Flags kept;
