@@ -68,12 +68,39 @@ const std::array<std::array<std::uint8_t, 3>, 15> k_loop_bezier_index = {{
     {0, 1, 3}, {2, 2, 0}, {1, 2, 1}, {0, 2, 2}, {1, 3, 0}, {0, 3, 1}, {0, 4, 0},
 }};
 
+namespace {
+
+/// k_weights without its zeros: each row's non-zero weights and their
+/// points, in ascending order of the point (a net is summed in that order,
+/// as from the full rows, but without a test per weight: nets are most of
+/// the cost of Loop's shells).
+struct SparseRow {
+    int count = 0;
+    std::uint8_t point[12] = {};
+    double weight[12] = {};
+};
+constexpr std::array<SparseRow, 15> sparse_rows() {
+    std::array<SparseRow, 15> rows{};
+    for (int q = 0; q < 15; ++q)
+        for (int k = 0; k < 12; ++k)
+            if (k_weights[q][k] != 0) {
+                SparseRow& r = rows[q];
+                r.point[r.count] = static_cast<std::uint8_t>(k);
+                r.weight[r.count] = k_weights[q][k];
+                ++r.count;
+            }
+    return rows;
+}
+constexpr std::array<SparseRow, 15> k_sparse_rows = sparse_rows();
+
+}  // namespace
+
 LoopBezierNet loop_bezier_net(const LoopPatchPoints& points) {
     LoopBezierNet net;
     for (int q = 0; q < 15; ++q) {
+        const SparseRow& row = k_sparse_rows[q];
         Vec3 sum(0.0);
-        for (int k = 0; k < 12; ++k)
-            if (k_weights[q][k] != 0) sum += static_cast<double>(k_weights[q][k]) * points[k];
+        for (int i = 0; i < row.count; ++i) sum += row.weight[i] * points[row.point[i]];
         net[q] = sum / 24.0;
     }
     return net;
