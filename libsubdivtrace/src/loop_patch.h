@@ -5,7 +5,9 @@
 // 15 points are fixed combinations of the 12 (Lai 1992; Stam 1998). The
 // Bezier net holds the surface in its convex hull, and so every limit point
 // drawn below the triangle at any level: what a regular node's shell bounds
-// (node_shell.cpp).
+// (node_shell.cpp). Below a triangle with an irregular corner, every part
+// but the one at that corner is such a triangle a level or more down, and
+// the part at the corner shrinks by half with each level (LoopCornerFrame).
 
 #include <array>
 #include <cstdint>
@@ -86,12 +88,12 @@ struct LoopCornerFrame {
 bool loop_corner_frame(const Patch& p, const Patch& next, std::uint32_t t, int c, const LoopChildren& ch,
                        LoopCornerFrame& out);
 
-/// The child one level further down: of its four children, the middle one
-/// and those at X and Y have regular corners, so each is a Bezier triangle
-/// (`nets`, in LoopPatchPoints order: middle, at X, at Y); the one at P is
-/// the child of `below`, P's frame one level down (Loop's interior rules
-/// applied to the frame's points). Its hull is about half the size of the
-/// frame's.
+/// The frame's child one level further down: of its four children, the
+/// middle one and those at X and Y have corners of valence 6, so each is a
+/// Bezier triangle (`nets`, in LoopPatchPoints order: middle, at X, at Y);
+/// the one at P depends on `below`, the frame one level down (Loop's
+/// interior rules applied to the frame's points), whose hull is about half
+/// the size of this frame's.
 void refine_corner_frame(const LoopCornerFrame& frame, std::array<LoopPatchPoints, 3>& nets,
                          LoopCornerFrame& below);
 
@@ -109,10 +111,10 @@ constexpr int k_loop_corner_levels = 3;
 /// middle child always, a corner's child where that corner is regular);
 /// a child at a corner that is not regular, by the nets of its frame
 /// refined k_loop_corner_levels times and the hull of the last frame, or
-/// where that does not apply, by the box of its corners' rings one level
-/// down. False (shell untouched) where an edge
-/// of t is a boundary or crease or the neighbourhood does not fit the
-/// lattice.
+/// where that does not apply (a boundary or crease at the corner), by the
+/// box of its corners' rings one level down. False (shell untouched) where
+/// an edge of t is a boundary or crease or the neighbourhood does not fit
+/// the lattice.
 bool grow_by_children(const Patch& p, const Patch& next, std::uint32_t t, Shell& shell);
 
 }  // namespace subdivtrace::detail
