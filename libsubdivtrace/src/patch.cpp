@@ -193,6 +193,63 @@ void ring_pairs(const Patch& p, std::uint32_t v, std::vector<SlotPair>& pairs) {
 
 }  // namespace
 
+bool ring_by_edges(const Patch& p, std::uint32_t v, OrderedRing<std::uint32_t>& out) {
+    const std::uint32_t first = p.incident_offsets[v], n = p.incident_offsets[v + 1] - first;
+    if (n == 0) return false;
+    const auto out_edge = [&](std::uint32_t slot) -> const PatchEdge& { return p.edges[p.tri_edges[slot]]; };
+    const auto in_edge = [&](std::uint32_t slot) -> const PatchEdge& {
+        return p.edges[p.tri_edges[slot - slot % 3 + (slot % 3 + 2) % 3]];
+    };
+    // An open fan starts at its one pair whose first edge has no other triangle.
+    std::uint32_t start = p.incident_slots[first];
+    int boundaries = 0;
+    for (std::uint32_t k = first; k < first + n; ++k) {
+        const PatchEdge& e = out_edge(p.incident_slots[k]);
+        if (e.slot_count > 2) return false;
+        if (e.slot_count == 1) {
+            start = p.incident_slots[k];
+            ++boundaries;
+        }
+    }
+    if (boundaries > 1) return false;
+    out.nbrs.clear();
+    out.closed = false;
+    out.regular = true;
+    const auto corner = [&](std::uint32_t slot, int step) { return p.tris[slot / 3].v[(slot % 3 + step) % 3]; };
+    out.nbrs.push_back(corner(start, 1));
+    std::uint32_t slot = start;
+    for (std::uint32_t step = 0;; ++step) {
+        const std::uint32_t to = corner(slot, 2);
+        const PatchEdge& e = in_edge(slot);
+        if (e.slot_count > 2) return false;
+        if (e.slot_count == 1) {
+            // The fan ends: open, after all n pairs.
+            if (boundaries != 1 || step + 1 != n) return false;
+            out.nbrs.push_back(to);
+            break;
+        }
+        // The other triangle on edge (v, to) must run it from v to `to`.
+        const std::uint32_t here = slot - slot % 3 + (slot % 3 + 2) % 3;
+        const std::uint32_t other = e.slot[0] == here ? e.slot[1] : e.slot[0];
+        if (p.tris[other / 3].v[other % 3] != v || p.tris[other / 3].v[(other % 3 + 1) % 3] != to) return false;
+        if (other == start) {
+            // Back at the start: closed, after all n pairs.
+            if (boundaries != 0 || step + 1 != n) return false;
+            out.closed = true;
+            break;
+        }
+        if (step + 1 >= n) return false;
+        out.nbrs.push_back(to);
+        slot = other;
+    }
+    // order_ring joins pairs by their vertices: a neighbour met twice is not one fan to it.
+    for (std::size_t i = 0; i < out.nbrs.size(); ++i)
+        for (std::size_t j = i + 1; j < out.nbrs.size(); ++j)
+            if (out.nbrs[i] == out.nbrs[j]) return false;
+    return true;
+}
+
+
 void Patch::finish_vertex(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v) {
     PatchVertex& pv = verts[v];
     VertexDerived& dv = derived[v];
@@ -200,7 +257,7 @@ void Patch::finish_vertex(const BaseTopology& topo, const SchemeRules& scheme, s
     // Ordered rings are walked in the canonical order; curves and sectors do
     // not depend on it.
     thread_local std::vector<SlotPair> pairs;
-    if (scheme.reads_ordered_rings() || on_curve) ring_pairs(*this, v, pairs);
+    if (on_curve) ring_pairs(*this, v, pairs);
 
     // Curves and sectors, where a boundary or crease can pass.
     if (on_curve) {
@@ -241,9 +298,12 @@ void Patch::finish_vertex(const BaseTopology& topo, const SchemeRules& scheme, s
         // Rules that read the ring read it ordered; normals only sum the pairs.
         thread_local std::vector<FanPair<std::uint32_t>> fan;
         thread_local OrderedRing<std::uint32_t> ordered;
-        fan.clear();
-        for (const SlotPair& pr : pairs) fan.push_back({pr.from, pr.to});
-        order_ring(fan, ordered, [](std::uint32_t x, std::uint32_t y) { return x == y; });
+        if (!ring_by_edges(*this, v, ordered)) {
+            if (!on_curve) ring_pairs(*this, v, pairs);
+            fan.clear();
+            for (const SlotPair& pr : pairs) fan.push_back({pr.from, pr.to});
+            order_ring(fan, ordered, [](std::uint32_t x, std::uint32_t y) { return x == y; });
+        }
         Ring& r = rings[v];
         r.offset = static_cast<std::uint32_t>(ring_nbrs.size());
         r.count = static_cast<std::uint32_t>(ordered.nbrs.size());
