@@ -249,7 +249,6 @@ bool ring_by_edges(const Patch& p, std::uint32_t v, OrderedRing<std::uint32_t>& 
     return true;
 }
 
-
 void Patch::finish_vertex(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v) {
     PatchVertex& pv = verts[v];
     VertexDerived& dv = derived[v];
