@@ -242,10 +242,26 @@ bool ring_by_edges(const Patch& p, std::uint32_t v, OrderedRing<std::uint32_t>& 
         out.nbrs.push_back(to);
         slot = other;
     }
-    // order_ring joins pairs by their vertices: a neighbour met twice is not one fan to it.
-    for (std::size_t i = 0; i < out.nbrs.size(); ++i)
-        for (std::size_t j = i + 1; j < out.nbrs.size(); ++j)
-            if (out.nbrs[i] == out.nbrs[j]) return false;
+    // order_ring joins pairs by their vertices: a neighbour met twice is not
+    // one fan to it. Compared pair by pair in a small ring, and marked in a
+    // large one (a valence-200 hub compared 20,000 pairs per patch).
+    const std::size_t count = out.nbrs.size();
+    if (count <= 16) {
+        for (std::size_t i = 0; i < count; ++i)
+            for (std::size_t j = i + 1; j < count; ++j)
+                if (out.nbrs[i] == out.nbrs[j]) return false;
+        return true;
+    }
+    thread_local std::vector<std::uint32_t> seen;  // a stamp per patch vertex
+    thread_local std::uint32_t stamp = 0;
+    if (seen.size() < p.verts.size() || ++stamp == 0) {
+        seen.assign(std::max(seen.size(), p.verts.size()), 0);
+        stamp = 1;
+    }
+    for (std::uint32_t w : out.nbrs) {
+        if (seen[w] == stamp) return false;
+        seen[w] = stamp;
+    }
     return true;
 }
 

@@ -81,6 +81,7 @@ TEST_CASE("rings walked through the edges are order_ring's rings", "[patch][ring
         {"irregular closed", testmesh::irregular_closed(5)},
         {"open grid", testmesh::open_grid(4)},
         {"valence 12", testmesh::high_valence_fan(12)},
+        {"valence 40", testmesh::high_valence_fan(40)},
         {"folded", testmesh::folded()},
         {"faceted cube (creases)", testmesh::faceted_cube()},
         {"non-manifold, bowtie, duplicate, turned", awkward_mesh()},
