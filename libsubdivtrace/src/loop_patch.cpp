@@ -33,18 +33,20 @@ constexpr std::uint8_t k_weights[15][12] = {
     {2, 12, 2, 0, 0, 2, 0, 2, 2, 2, 0, 0},   // (0, 4, 0)
 };
 
-/// Where vertex `from` lies in ring r (of six), and the direction `step`
-/// (+1 or -1) in which `towards` follows it `offset` places on; false unless
-/// exactly one direction fits.
+/// Where vertex `from` lies in ring r (of r.count, at least 3), and the
+/// direction `step` (1, or r.count - 1: one step back modulo the count) in
+/// which `towards` follows it `offset` places on; false unless exactly one
+/// direction fits.
 bool locate(const RingIndices& r, std::uint32_t from, std::uint32_t towards, int offset, int& at, int& step) {
+    const int n = static_cast<int>(r.count);
     at = -1;
-    for (int k = 0; k < 6; ++k)
+    for (int k = 0; k < n; ++k)
         if (r.nbrs[k] == from) at = k;
     if (at < 0) return false;
-    const bool forward = r.nbrs[(at + offset) % 6] == towards;
-    const bool backward = r.nbrs[(at + 6 - offset) % 6] == towards;
+    const bool forward = r.nbrs[(at + offset) % n] == towards;
+    const bool backward = r.nbrs[(at + n - offset) % n] == towards;
     if (forward == backward) return false;
-    step = forward ? 1 : 5;  // 5: one step back, modulo 6
+    step = forward ? 1 : n - 1;
     return true;
 }
 
@@ -276,16 +278,10 @@ bool loop_corner_frame(const Patch& p, const Patch& next, std::uint32_t t, int c
     const RingIndices r = p.ring_indices(v);
     const std::uint32_t n = r.count;
     if (!r.closed || n < 3) return false;
-    const std::uint32_t to_next = p.tris[t].v[(c + 1) % 3], to_previous = p.tris[t].v[(c + 2) % 3];
-    std::uint32_t at = n;
-    for (std::uint32_t k = 0; k < n; ++k)
-        if (r.nbrs[k] == to_next) at = k;
-    if (at == n) return false;
-    const bool forward = r.nbrs[(at + 1) % n] == to_previous;
-    const bool backward = r.nbrs[(at + n - 1) % n] == to_previous;
-    if (forward == backward) return false;
-    const std::uint32_t step = forward ? 1 : n - 1;
-    const auto nbr = [&](std::uint32_t k) { return r.nbrs[(at + k * step) % n]; };
+    int at = 0, step = 0;
+    if (!locate(r, p.tris[t].v[(c + 1) % 3], p.tris[t].v[(c + 2) % 3], 1, at, step)) return false;
+    const auto start = static_cast<std::uint32_t>(at), stride = static_cast<std::uint32_t>(step);
+    const auto nbr = [&](std::uint32_t k) { return r.nbrs[(start + k * stride) % n]; };
     // The vertices across t's edges at P must close its ring as the lattice says.
     if (nbr(2) != ch.across[(c + 2) % 3] || nbr(n - 1) != ch.across[c]) return false;
     out.ring.resize(n);

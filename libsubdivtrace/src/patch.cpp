@@ -196,10 +196,11 @@ void ring_pairs(const Patch& p, std::uint32_t v, std::vector<SlotPair>& pairs) {
 bool ring_by_edges(const Patch& p, std::uint32_t v, OrderedRing<std::uint32_t>& out) {
     const std::uint32_t first = p.incident_offsets[v], n = p.incident_offsets[v + 1] - first;
     if (n == 0) return false;
+    // Pair `slot` (v's corner) runs from its first edge, (v, from), to its
+    // last, (to, v), which is its triangle's edge slot before v's.
+    const auto last_edge_slot = [](std::uint32_t slot) { return slot - slot % 3 + (slot % 3 + 2) % 3; };
     const auto out_edge = [&](std::uint32_t slot) -> const PatchEdge& { return p.edges[p.tri_edges[slot]]; };
-    const auto in_edge = [&](std::uint32_t slot) -> const PatchEdge& {
-        return p.edges[p.tri_edges[slot - slot % 3 + (slot % 3 + 2) % 3]];
-    };
+    const auto in_edge = [&](std::uint32_t slot) -> const PatchEdge& { return p.edges[p.tri_edges[last_edge_slot(slot)]]; };
     // An open fan starts at its one pair whose first edge has no other triangle.
     std::uint32_t start = p.incident_slots[first];
     int boundaries = 0;
@@ -229,8 +230,7 @@ bool ring_by_edges(const Patch& p, std::uint32_t v, OrderedRing<std::uint32_t>& 
             break;
         }
         // The other triangle on edge (v, to) must run it from v to `to`.
-        const std::uint32_t here = slot - slot % 3 + (slot % 3 + 2) % 3;
-        const std::uint32_t other = e.slot[0] == here ? e.slot[1] : e.slot[0];
+        const std::uint32_t other = e.slot[0] == last_edge_slot(slot) ? e.slot[1] : e.slot[0];
         if (p.tris[other / 3].v[other % 3] != v || p.tris[other / 3].v[(other % 3 + 1) % 3] != to) return false;
         if (other == start) {
             // Back at the start: closed, after all n pairs.
