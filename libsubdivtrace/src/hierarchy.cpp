@@ -293,6 +293,18 @@ public:
         return fresh.start;
     }
 
+    /// Chunk `chunk` of hierarchy `owner` if one is kept (with or without its level).
+    std::shared_ptr<ChunkStart> find(std::uint64_t owner, std::uint32_t chunk) {
+        const std::lock_guard<std::mutex> hold(mutex_);
+        for (Slot& s : slots_) {
+            if (s.owner == owner && s.chunk == chunk) {
+                s.last_used = ++clock_;
+                return s.start;
+            }
+        }
+        return nullptr;
+    }
+
     /// Drops the levels of a hierarchy nobody can ask for again.
     void erase_owner(std::uint64_t owner) {
         const std::lock_guard<std::mutex> hold(mutex_);
@@ -324,7 +336,7 @@ public:
     HierarchyImpl(const Mesh& mesh, SchemeKind scheme, int max_level,
                   std::shared_ptr<TileCache> shared_cache, ShellKind shell_kind)
         : topo(mesh),
-          context{topo, detail::rules_of(scheme), shell_kind, max_level, &nodes_built, &tile_build_ns, nullptr, {}, {}},
+          context{topo, detail::rules_of(scheme), shell_kind, max_level, &nodes_built, &tile_build_ns, nullptr, {}, {}, {}},
           roots(context),
           cache(std::move(shared_cache)),
           tiles(cache->impl()) {
@@ -343,6 +355,17 @@ public:
             if (const detail::LevelBelow* below = BelowParents::mine().find(id, parent_root))
                 return detail::band_of_roots(below->patch(), {root});
             return tile(parent_root)->tile.band_of_child(root);
+        };
+        context.base_start = [this](std::uint32_t face) {
+            // Cut from its chunk's level 1 where one is kept (every thread
+            // shares them): a level of the face alone is a base patch of
+            // about 49 faces split once.
+            if (const std::shared_ptr<ChunkStart> chunk =
+                    ChunkLevels::instance().find(id, chunks_of_faces().chunk_index(face))) {
+                const std::lock_guard<std::mutex> hold(chunk->lock);
+                if (chunk->level) return detail::band_of_roots(chunk->level->patch(), {root_node(face)});
+            }
+            return detail::chunk_level(context, &face, 1);
         };
         tiles.surfaces.fetch_add(1, std::memory_order_relaxed);
     }
@@ -439,7 +462,7 @@ public:
 
     std::atomic<std::uint64_t> nodes_built{0};
     std::atomic<std::uint64_t> tiles_built{0};
-    /// Time spent building tiles, their lazy levels and the frontiers child
+    /// Time spent building tiles, their lazy levels and the bands child
     /// tiles start from (not waiting for another thread), summed over threads.
     std::atomic<std::uint64_t> tile_build_ns{0};
     detail::BaseTopology topo;

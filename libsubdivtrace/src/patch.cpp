@@ -355,14 +355,6 @@ void Patch::give_back_derived() {
     for_each_derived(*this, [](auto& v, auto& to) { give_back(v, to); });
 }
 
-void Patch::drop_derived() {
-    give_back_derived();
-    verts.shrink_to_fit();
-    draw.shrink_to_fit();
-    tris.shrink_to_fit();
-    release(edge_names);  // named again when it is split (name_edges)
-}
-
 std::size_t Patch::owned_bytes() const {
     return (verts.capacity() * sizeof(PatchVertex) + draw.capacity() * sizeof(Vec3)) +
            tris.capacity() * sizeof(PatchTriangle) +

@@ -139,8 +139,8 @@ public:
     /// the parent's edges by each subdivision (a half of parent edge p is
     /// number 2p or 2p + 1, an inner edge of parent triangle t 2E + 3t + k)
     /// and carried by copies, so finish() finds the edges by direct
-    /// indexing; a patch without names (a base patch, a frontier that
-    /// dropped them) is named by vertex pairs first (name_edges).
+    /// indexing; a patch without names (a base patch) is named by vertex
+    /// pairs first (name_edges).
     std::vector<std::uint32_t> edge_names;
 
     /// Rings, completeness, edges, curves, normals and (Loop) draw positions
@@ -259,17 +259,13 @@ public:
         dv.has_normal = true;
     }
 
-    /// Frees rings, edges and edge names (finish() rebuilds them) and
-    /// shrinks the rest to fit, for a patch that waits in a tile.
-    void drop_derived();
     /// Frees rings and edges alone: this thread keeps their blocks for the
     /// next patch it finishes (a patch about to be destroyed gives them back).
     void give_back_derived();
     std::size_t owned_bytes() const;
 
 private:
-    /// Names the edges (edge_names) by their vertex pairs: for base patches,
-    /// and patches that dropped their names (drop_derived).
+    /// Names the edges (edge_names) by their vertex pairs: for base patches.
     void name_edges(const BaseTopology& topo);
     void build_edges();
     void compute_normal(const BaseTopology& topo, const SchemeRules& scheme, std::uint32_t v);

@@ -210,27 +210,7 @@ Tile::Tile(const TileContext& ctx, const NodeId& root, TileGroup& group)
     Patch& q = *group.level_;
     const std::vector<std::uint32_t> tile_tris = group.triangles_of(root);
     fill_level(1, q, *group.next_, *group.memo_, tile_tris);
-    // The frontier a lone tile would keep: its triangles and their border,
-    // without rings and edges (a copy each: a patch shared by the group
-    // outlived the tiles that were charged for it once some were evicted).
-    if (needs_frontier(1)) {
-        frontier_ = std::make_unique<Patch>(Patch::copy_of(q, q.band_around(tile_tris)));
-        // Kept for the tile's life: without the room copy_of reserves for a
-        // border's worst case (about 1.6x the vertices a band has). Its edge
-        // names stay: the next level would name them again.
-        frontier_->verts.shrink_to_fit();
-        frontier_->draw.shrink_to_fit();
-    }
     ready_.store(1, std::memory_order_release);
-}
-
-bool Tile::needs_frontier(int j) const {
-    // Child tiles start from the deepest level (until a thread takes it to
-    // derive the level below, take_deepest_band). A base triangle's tile also
-    // keeps each level for the next: alone, it would start again from a
-    // level-0 patch of about 49 faces (in the blob5k close-up, deriving it
-    // cost 12% more instructions, nearly all in base tiles).
-    return j == depth_ ? root_.level + depth_ < ctx_->max_level : root_.level == 0;
 }
 
 bool Tile::in_tile(const NodeId& id) const {
@@ -255,7 +235,7 @@ Patch Tile::band_at(int j) const {
     // and a border two rings wide suffices).
     Patch q;
     if (root_.level == 0) {
-        q = chunk_level(*ctx_, &root_.face, 1);  // its face alone: level 1
+        q = ctx_->base_start ? ctx_->base_start(root_.face) : chunk_level(*ctx_, &root_.face, 1);
     } else {
         if (!ctx_->child_start)
             throw std::logic_error("subdivtrace tile: a child tile's later levels need their start (TileContext::child_start)");
@@ -350,26 +330,15 @@ void Tile::ensure_level(int j) const {
     std::lock_guard<SpinLock> lock(lock_);
     const int built = ready_.load(std::memory_order_relaxed);
     if (built >= j) return;  // another thread built it
-    // The band of the level built last: kept, or derived again (band_at
-    // times itself, as the parent's builds time their own).
+    // The band of the level built last, derived again (band_at times
+    // itself, as the parent's builds time their own): a tile keeps records
+    // only (tile.h).
     auto* self = const_cast<Tile*>(this);
-    Patch q;
-    if (frontier_) {
-        q = std::move(*frontier_);
-        self->frontier_.reset();
-    } else {
-        q = band_at(built);
-    }
+    Patch q = band_at(built);
     {
         const BuildTimer timer(ctx_->build_ns);
         for (int k = built + 1; k <= j; ++k) {
             self->build_level(k, q);
-            if (k == j && needs_frontier(k)) {
-                // Waits, without rings and edges, for what starts from it
-                // (read and taken under the lock: take_deepest_band).
-                q.drop_derived();
-                self->frontier_ = std::make_unique<Patch>(std::move(q));
-            }
             ready_.store(static_cast<std::uint8_t>(k), std::memory_order_release);
         }
         q.give_back_derived();  // its arrays serve the next patch this thread finishes
@@ -383,22 +352,9 @@ void Tile::ensure_deepest_for_children() const {
         throw std::logic_error("subdivtrace tile: a level below a tile at max_level asked for");
 }
 
-Patch Tile::take_deepest_band() const {
-    ensure_deepest_for_children();
-    std::unique_ptr<Patch> kept;
-    std::size_t after = 0;
-    {
-        const std::lock_guard<SpinLock> lock(lock_);
-        kept = std::move(const_cast<Tile*>(this)->frontier_);
-        after = bytes_held();
-    }
-    if (!kept) return band_at(depth_);
-    if (ctx_->resized) ctx_->resized(*this, root_, after);
-    return std::move(*kept);
-}
-
 Patch Tile::below_deepest() const {
-    Patch q = take_deepest_band();
+    ensure_deepest_for_children();
+    Patch q = band_at(depth_);
     const BuildTimer timer(ctx_->build_ns);
     Patch below = split_band(q);
     below.build_incidence();  // each child tile cuts its band through them
@@ -409,15 +365,9 @@ Patch Tile::band_of_child(const NodeId& child_root) const {
     if (child_root.level != root_.level + depth_ || !in_tile(child_root))
         throw std::logic_error("subdivtrace tile: band_of_child asked for a node that is not a child tile's root");
     ensure_deepest_for_children();
-    const auto band_of = [&](const Patch& q) {
-        const BuildTimer timer(ctx_->build_ns);
-        return Patch::copy_of(q, q.band([&](const NodeId& id) { return id == child_root; }));
-    };
-    {
-        const std::lock_guard<SpinLock> lock(lock_);
-        if (frontier_) return band_of(*frontier_);
-    }
-    return band_of(band_at(depth_));
+    const Patch q = band_at(depth_);
+    const BuildTimer timer(ctx_->build_ns);
+    return Patch::copy_of(q, q.band([&](const NodeId& id) { return id == child_root; }));
 }
 
 namespace {
@@ -456,7 +406,6 @@ std::size_t TileLevel::bytes_held() const {
 
 std::size_t Tile::bytes_held() const {
     std::size_t bytes = sizeof(Tile);
-    if (frontier_) bytes += sizeof(Patch) + frontier_->owned_bytes();
     for (const TileLevel& l : levels_) bytes += l.bytes_held();
     return bytes;
 }

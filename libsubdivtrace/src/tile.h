@@ -39,8 +39,8 @@ struct TileContext {
     int max_level;
     /// Running count of node records built (for statistics).
     std::atomic<std::uint64_t>* records_built;
-    /// Nanoseconds spent building tiles' levels and frontiers, summed over
-    /// threads (for statistics; not time waiting for another thread).
+    /// Nanoseconds spent building tiles' levels and the bands they start
+    /// from, summed over threads (for statistics; not time waiting for another thread).
     std::atomic<std::uint64_t>* build_ns;
     /// The base level's records once they are built: a base triangle's tile
     /// takes its level-0 normals from them instead of recomputing them.
@@ -56,6 +56,11 @@ struct TileContext {
     /// has it (band_of_roots), or else the parent's band around the root at
     /// the root's level (Tile::band_of_child). Neither finished.
     std::function<Patch(const NodeId& root)> child_start;
+    /// Where base triangle `face`'s tile builds its later levels from: its
+    /// level 1 with its border (chunk_level of the face alone, or the same
+    /// triangles cut from a kept level of its chunk), not finished. Unset:
+    /// chunk_level of the face alone.
+    std::function<Patch(std::uint32_t face)> base_start;
 };
 
 /// The level below a parent tile's deepest one (Tile::below_deepest: its
@@ -103,9 +108,9 @@ private:
 
 /// The first level of a group of tiles: a LevelBelow, finished (or the
 /// group's own band cut from one), and the next level's points their records
-/// read. Each tile takes its records and its frontier (its own triangles
-/// and their border) from it, with the same bits it would compute alone
-/// (every value is summed in canonical order): a lone tile is a group of one.
+/// read. Each tile takes its records from it, with the same bits it would
+/// compute alone (every value is summed in canonical order): a lone tile is
+/// a group of one.
 class TileGroup {
 public:
     /// Tiles rooted at `roots`: base triangles of the chunk whose
@@ -279,8 +284,8 @@ public:
 
     /// The level below its deepest one (its triangles' children and their
     /// band, not finished but with incident lists), where child tiles start
-    /// (TileGroup). Computed anew on each call, from the frontier the first
-    /// time (take_deepest_band): the one below is about 3x the tile's other
+    /// (TileGroup). Computed anew on each call, from the deepest level's band
+    /// derived again (band_at): the one below is about 3x the tile's other
     /// bytes (the caller keeps it while it builds children, hierarchy.cpp).
     /// Builds every level first; only for a tile whose deepest level is
     /// above max_level.
@@ -292,31 +297,22 @@ public:
     /// is above max_level.
     Patch band_of_child(const NodeId& child_root) const;
 
-    /// What the tile holds now: the levels built and its frontier. Grows as
+    /// What the tile holds now: the levels built (records only). Grows as
     /// levels are built (TileContext::resized).
     std::size_t bytes_held() const;
 
 private:
     bool in_tile(const NodeId& id) const;
-    /// Its deepest level with its border (not finished): the frontier,
-    /// which it gives up (below_deepest's caller keeps what it derives from
-    /// it for all the children, hierarchy.cpp's BelowParents, and kept,
-    /// frontiers were a third of the blob5k close-up's cache, 9 kB a tile,
-    /// more than its records), or derived again (band_at) once it is given up.
-    Patch take_deepest_band() const;
     /// Builds every level; throws std::logic_error for a tile whose deepest
     /// level is max_level (it has no child tiles).
     void ensure_deepest_for_children() const;
-    /// Whether the frontier is kept once level j is built: at the deepest
-    /// level, for child tiles, and in a base triangle's tile. A child tile's
-    /// first level is most often its only one (nine tiles in ten in the
-    /// blob5k close-up), so the band its next level starts from is derived
-    /// again from its parent when one is built (band_at), not kept.
-    bool needs_frontier(int j) const;
     /// Level j of the tile's triangles with their border, not finished
-    /// (j <= the deepest level built, below the tile's deepest): from
-    /// TileContext::child_start (or, for a base triangle, chunk_level of its
-    /// face alone), split down to level j.
+    /// (j <= the deepest level built): from TileContext::child_start (or,
+    /// for a base triangle, TileContext::base_start), split down to level
+    /// j. Where a later level or a child tile starts: a tile keeps no band
+    /// between levels. Kept bands (the "frontier", about 9 kB a tile) were
+    /// 70% of the cache's peak in POV-Ray's balcony scene and 19% in the
+    /// blob5k close-up (docs/benchmarks.md, "Tiles keep records only").
     Patch band_at(int j) const;
     std::size_t index_in_level(const NodeId& id) const;
     std::size_t vertex_index(const NodeId& id, std::uint32_t gi, std::uint32_t gj) const;
@@ -350,12 +346,8 @@ private:
     NodeId root_;
     /// Levels 1..depth_ at [j - 1], allocated as they are built.
     std::array<TileLevel, k_tile_depth> levels_;
-    /// The last level built with its border (without rings and edges), for
-    /// the levels and child tiles that start from it (needs_frontier; a
-    /// pointer: most tiles never hold one, and a Patch is ~350 bytes).
-    std::unique_ptr<Patch> frontier_;
     std::uint8_t depth_ = 0;
-    mutable SpinLock lock_;  ///< held while a level is built, and around frontier_
+    mutable SpinLock lock_;  ///< held while a level is built
     mutable std::atomic<std::uint8_t> ready_{0};  ///< levels built (1..ready_)
 };
 

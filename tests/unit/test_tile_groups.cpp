@@ -117,7 +117,7 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
         for (SchemeKind scheme : {SchemeKind::normal, SchemeKind::loop, SchemeKind::butterfly}) {
             INFO(name << ", " << scheme_name(scheme));
             std::atomic<std::uint64_t> records{0}, ns{0};
-            TileContext ctx{topo, detail::rules_of(scheme), ShellKind::aabb_slab, 6, &records, &ns, nullptr, {}, {}};
+            TileContext ctx{topo, detail::rules_of(scheme), ShellKind::aabb_slab, 6, &records, &ns, nullptr, {}, {}, {}};
             const RootRecords roots(ctx);
             ctx.roots = &roots;
             // The child tiles below build their later levels from their

@@ -62,8 +62,8 @@ struct HierarchyCounters {
     /// for it, docs/tracer.md).
     std::uint64_t tiles_built = 0;
     /// Seconds spent building tiles, summed over threads: a tile's own work
-    /// (its construction, the levels it builds on first use, the frontier a
-    /// child tile starts from), not waiting for another thread.
+    /// (its construction, the levels it builds on first use, the bands they
+    /// and child tiles start from), not waiting for another thread.
     double tile_build_seconds = 0.0;
     /// Tile lookups in the cache that found the tile (or waited for another
     /// thread building it). This hierarchy's own, whoever shares the cache;
