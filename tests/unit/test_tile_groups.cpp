@@ -149,6 +149,15 @@ TEST_CASE("a tile holds the same bits built alone or with its group", "[hierarch
                 const Tile with_chunk(ctx, root, from_chunk);
                 parent = &alone;
                 compare(alone, with_chunk, root, 3);
+                // A base tile's later levels start from its face's band: the
+                // level 1 of its face alone (above), or that band cut from
+                // its chunk's level, finished by other tiles (the hierarchy's
+                // TileContext::base_start where the chunk's level is kept).
+                TileContext cut_from_chunk = ctx;
+                cut_from_chunk.base_start = [&](std::uint32_t f) { return band_of_roots(chunk.patch(), {root_node(f)}); };
+                TileGroup from_chunk_again(cut_from_chunk, chunk, {root});
+                const Tile with_chunk_start(cut_from_chunk, root, from_chunk_again);
+                compare(alone, with_chunk_start, root, 3);
                 // Tiles below: alone, and with their group, from either tile's
                 // last patch.
                 const NodeId child_root = child_of(child_of(child_of(root, 1), 3), 0);
