@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "subdivtrace/mesh.h"
+#include "subdivtrace/scheme.h"
 
 namespace subdivtrace::detail {
 
@@ -26,5 +27,18 @@ private:
     Vec3 inline_[k_inline];  // left uninitialised: every caller writes before it reads
     std::vector<Vec3> heap_;
 };
+
+/// The Gouraud normal of a fan of `count` triangles (centre, from[k], to[k]):
+/// their angle-weighted normals summed in order, normalised (zero where they
+/// cancel). The records' fans, whether a patch or a lattice gathers them,
+/// sum here, so the same points in the same order give the same bits.
+inline Vec3 fan_normal(const Vec3& centre, const Vec3* from, const Vec3* to, std::size_t count) {
+    FanScratch room;
+    Vec3* weight = room.room(count);
+    angle_weighted_fan(centre, from, to, count, weight);
+    Vec3 sum(0.0);
+    for (std::size_t k = 0; k < count; ++k) sum += weight[k];
+    return finish_normal(sum);
+}
 
 }  // namespace subdivtrace::detail

@@ -42,10 +42,9 @@ Vec3 compute_shading_normal(const TileContext& ctx, const Patch& p, const Patch&
     const bool one_sector = p.derived[v].single_sector;
     const std::uint16_t sector = p.corner_sector[3 * t + c];
     const std::size_t incident = p.incident_offsets[v + 1] - p.incident_offsets[v];
-    FanScratch from_room, to_room, weight_room;
+    FanScratch from_room, to_room;
     Vec3* from = from_room.room(incident);
     Vec3* to = to_room.room(incident);
-    Vec3* weight = weight_room.room(incident);
     std::size_t count = 0;
     for (std::uint32_t k = p.incident_offsets[v]; k < p.incident_offsets[v + 1]; ++k) {
         const std::uint32_t slot = p.incident_slots[k];
@@ -58,10 +57,7 @@ Vec3 compute_shading_normal(const TileContext& ctx, const Patch& p, const Patch&
         to[count] = next.verts[in.point].position;
         ++count;
     }
-    angle_weighted_fan(next.verts[v].position, from, to, count, weight);
-    Vec3 sum(0.0);
-    for (std::size_t k = 0; k < count; ++k) sum += weight[k];
-    const Vec3 n = finish_normal(sum);
+    const Vec3 n = fan_normal(next.verts[v].position, from, to, count);
     return n == Vec3(0.0) ? own : n;
 }
 
@@ -126,12 +122,9 @@ Vec3 compute_edge_midpoint_normal(const TileContext& ctx, const Patch& p, const 
     }
     // The triangles (m, ring[k], ring[k + 1]), around the ring when it closes.
     const std::size_t triangles = closed ? count : count - 1;
-    std::array<Vec3, 6> to, weight;
+    std::array<Vec3, 6> to;
     for (std::size_t k = 0; k < triangles; ++k) to[k] = ring[(k + 1) % count];
-    angle_weighted_fan(m, ring.data(), to.data(), triangles, weight.data());
-    Vec3 sum(0.0);
-    for (std::size_t k = 0; k < triangles; ++k) sum += weight[k];
-    return finish_normal(sum);
+    return fan_normal(m, ring.data(), to.data(), triangles);
 }
 
 /// compute_edge_midpoint_normal, shared by the edge's two triangles where
