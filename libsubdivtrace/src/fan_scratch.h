@@ -30,8 +30,8 @@ private:
 
 /// The Gouraud normal of a fan of `count` triangles (centre, from[k], to[k]):
 /// their angle-weighted normals summed in order, normalised (zero where they
-/// cancel). The records' fans, whether a patch or a lattice gathers them,
-/// sum here, so the same points in the same order give the same bits.
+/// cancel). A record's shading and edge-midpoint normals both sum here,
+/// in the order their caller gathers the fan.
 inline Vec3 fan_normal(const Vec3& centre, const Vec3* from, const Vec3* to, std::size_t count) {
     FanScratch room;
     Vec3* weight = room.room(count);

@@ -46,12 +46,15 @@ CompactShell CompactShell::from(const Shell& s, const Vec3& origin) {
     return c;
 }
 
-Shell corner_shell(const NodeRecord& rec, const std::array<Vec3, 3>& corner_normals, ShellKind shell_kind) {
+Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const NodeRecord& rec,
+                       const SchemeRules& scheme, ShellKind shell_kind, int max_level) {
+    const PatchTriangle& tri = p.tris[t];
     // Slab axis: the node's own plane (or its corners' mean normal if it is degenerate).
     Shell shell;
     Vec3 axis = finish_normal(
         glm::cross(rec.position[1] - rec.position[0], rec.position[2] - rec.position[0]));
-    if (axis == Vec3(0.0)) axis = finish_normal(corner_normals[0] + corner_normals[1] + corner_normals[2]);
+    if (axis == Vec3(0.0))
+        axis = finish_normal(p.corner_normal[3 * t] + p.corner_normal[3 * t + 1] + p.corner_normal[3 * t + 2]);
     // Rounded first: the stored shell keeps this very axis.
     shell.axis = shell_kind == ShellKind::aabb_slab ? storable_axis(axis) : Vec3(0.0);
     if (shell.axis != Vec3(0.0)) shell.slab_min = shell.slab_max = glm::dot(shell.axis, rec.position[0]);
@@ -59,32 +62,7 @@ Shell corner_shell(const NodeRecord& rec, const std::array<Vec3, 3>& corner_norm
         shell.grow_both(rec.position[c]);
         shell.grow_both(rec.draw_position[c]);
     }
-    return shell;
-}
 
-void grow_by_displacement(Shell& shell, const std::array<Vec3, 3>& edge_points, double max_displacement,
-                          int level, int max_level) {
-    if (level >= max_level) return;
-    for (const Vec3& point : edge_points) shell.grow_both(point);
-    if (level + 1 < max_level) shell.pad(k_displacement_factor * max_displacement);
-}
-
-void pad_for_rounding(Shell& shell) {
-    // Relative to the node's extent, plus the rounding of coordinates of
-    // this magnitude (a pad relative to the distance from the origin would
-    // swallow a small mesh far from it: at 1e6 it was wider than a 1e-3
-    // mesh, and no shell culled anything).
-    const Vec3 extent = shell.hi - shell.lo;
-    const Vec3 magnitude = glm::max(glm::abs(shell.lo), glm::abs(shell.hi));
-    shell.pad(k_rounding_slack * std::max({extent.x, extent.y, extent.z}) +
-              gamma_bound(k_stencil_rounding_steps) * (magnitude.x + magnitude.y + magnitude.z));
-}
-
-Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const NodeRecord& rec,
-                       const SchemeRules& scheme, ShellKind shell_kind, int max_level) {
-    const PatchTriangle& tri = p.tris[t];
-    Shell shell = corner_shell(rec, {p.corner_normal[3 * t], p.corner_normal[3 * t + 1], p.corner_normal[3 * t + 2]},
-                               shell_kind);
     if (tri.id.level < max_level) {
         if (scheme.convex_rules) {
             // Loop draws limit points: below t a ray meets only the limit
@@ -119,12 +97,19 @@ Shell descendant_shell(const Patch& p, const Patch* next, std::uint32_t t, const
                 if (!p.derived[v].has_displacement) stencil_cut("an edge point next to a corner");
                 max_displacement = std::max(max_displacement, p.derived[v].displacement);
             }
-            std::array<Vec3, 3> edge_points;
-            for (int e = 0; e < 3; ++e) edge_points[e] = next->verts[p.edges[p.tri_edges[3 * t + e]].point].position;
-            grow_by_displacement(shell, edge_points, max_displacement, tri.id.level, max_level);
+            for (int e = 0; e < 3; ++e)
+                shell.grow_both(next->verts[p.edges[p.tri_edges[3 * t + e]].point].position);
+            if (tri.id.level + 1 < max_level) shell.pad(k_displacement_factor * max_displacement);
         }
     }
-    pad_for_rounding(shell);
+    // Slack for the stencils' rounding: relative to the node's extent, plus
+    // the rounding of coordinates of this magnitude (a pad relative to the
+    // distance from the origin would swallow a small mesh far from it: at
+    // 1e6 it was wider than a 1e-3 mesh, and no shell culled anything).
+    const Vec3 extent = shell.hi - shell.lo;
+    const Vec3 magnitude = glm::max(glm::abs(shell.lo), glm::abs(shell.hi));
+    shell.pad(k_rounding_slack * std::max({extent.x, extent.y, extent.z}) +
+              gamma_bound(k_stencil_rounding_steps) * (magnitude.x + magnitude.y + magnitude.z));
     return shell;
 }
 

@@ -47,20 +47,6 @@ struct CompactShell {
     }
 };
 
-/// What every node's shell starts from: the slab axis of its plane (of its
-/// corners' normals where the plane is degenerate; none for ShellKind::aabb),
-/// grown by its corners and drawn corners.
-Shell corner_shell(const NodeRecord& rec, const std::array<Vec3, 3>& corner_normals, ShellKind shell_kind);
-/// The interpolating schemes' reach below a node of `level` (below
-/// max_level): its children's corners are exact (its corners and
-/// `edge_points`, the next level's points of its edges), the levels below
-/// lie within k_displacement_factor times the largest next-level
-/// displacement at its corners (the series of the displacements).
-void grow_by_displacement(Shell& shell, const std::array<Vec3, 3>& edge_points, double max_displacement,
-                          int level, int max_level);
-/// The slack every shell gets for the stencils' rounding.
-void pad_for_rounding(Shell& shell);
-
 /// The shell of patch triangle t whose record `rec` has its positions, drawn
 /// positions and normals filled in: its corners and drawn points, grown by
 /// the scheme's reach over its descendants (from `next`, the level below,

@@ -268,34 +268,26 @@ void Tile::build_level(int j, Patch& q) {
 
 void Tile::fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
                       const std::vector<std::uint32_t>& tile_tris) {
-    thread_local std::vector<std::pair<NodeId, NodeRecord>> records;
-    records.clear();
-    for (std::uint32_t t : tile_tris) {
-        const PatchTriangle& tri = q.tris[t];
-        for (std::uint32_t v : tri.v) q.ensure_normal(ctx_->topo, ctx_->scheme, v);
-        records.emplace_back(tri.id, make_record(*ctx_, q, &next, t, memo));
-    }
-    store_level(j, records);
-}
-
-void Tile::store_level(int j, const std::vector<std::pair<NodeId, NodeRecord>>& records) {
     TileLevel& out = levels_[j - 1];
     out.allocate(j, ctx_->scheme.draws_limit_points());
     TilePoint* points = out.points();
     Vec3* draw = out.draw();
     thread_local std::vector<Shell> shells;  // in double precision until compacted below
     shells.assign(out.shell_count(), Shell{});
-    for (const auto& [id, rec] : records) {
-        shells[index_in_level(id)] = rec.shell;
-        const auto grid = node_corner_grid(id);
+    for (std::uint32_t t : tile_tris) {
+        const PatchTriangle& tri = q.tris[t];
+        for (std::uint32_t v : tri.v) q.ensure_normal(ctx_->topo, ctx_->scheme, v);
+        const NodeRecord rec = make_record(*ctx_, q, &next, t, memo);
+        shells[index_in_level(tri.id)] = rec.shell;
+        const auto grid = node_corner_grid(tri.id);
         for (int c = 0; c < 3; ++c) {
-            const std::size_t v = vertex_index(id, grid[c][0], grid[c][1]);
+            const std::size_t v = vertex_index(tri.id, grid[c][0], grid[c][1]);
             TilePoint& point = points[v];
             point.set_position(rec.position[c]);
             point.shading = OctahedralNormal::from(rec.shading_normal[c]);
             point.displacement = rec.displacement[c];
             if (draw) draw[v] = rec.draw_position[c];
-            const auto [direction, at] = edge_slot(id, c);
+            const auto [direction, at] = edge_slot(tri.id, c);
             points[at].edge_normal[direction] = OctahedralNormal::from(Vec3(rec.edge_normal[c]));
         }
     }

@@ -333,8 +333,6 @@ private:
     /// points around them.
     void fill_level(int j, Patch& q, const Patch& next, ShadingMemo& memo,
                     const std::vector<std::uint32_t>& tile_tris);
-    /// Level j's records (levels_[j - 1]) from the records of its triangles.
-    void store_level(int j, const std::vector<std::pair<NodeId, NodeRecord>>& records);
     void ensure_level(int j) const;
     /// The triangles of `q` (a level of this tile with its border; finished
     /// here) split, cut to the tile's triangles and their border.
