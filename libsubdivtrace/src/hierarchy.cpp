@@ -278,15 +278,10 @@ public:
     std::shared_ptr<ChunkStart> get(std::uint64_t owner, std::uint32_t chunk,
                                     const std::shared_ptr<FrontTally>& tally) {
         const std::lock_guard<std::mutex> hold(mutex_);
-        ++clock_;
+        if (Slot* s = used(owner, chunk)) return s->start;
         Slot* oldest = nullptr;
-        for (Slot& s : slots_) {
-            if (s.owner == owner && s.chunk == chunk) {
-                s.last_used = clock_;
-                return s.start;
-            }
+        for (Slot& s : slots_)
             if (!oldest || s.last_used < oldest->last_used) oldest = &s;
-        }
         Slot fresh{owner, chunk, clock_, std::make_shared<ChunkStart>(tally)};
         if (slots_.size() < k_capacity) slots_.push_back(fresh);
         else *oldest = fresh;  // the replaced level goes once no build holds it
@@ -296,13 +291,8 @@ public:
     /// Chunk `chunk` of hierarchy `owner` if one is kept (with or without its level).
     std::shared_ptr<ChunkStart> find(std::uint64_t owner, std::uint32_t chunk) {
         const std::lock_guard<std::mutex> hold(mutex_);
-        for (Slot& s : slots_) {
-            if (s.owner == owner && s.chunk == chunk) {
-                s.last_used = ++clock_;
-                return s.start;
-            }
-        }
-        return nullptr;
+        Slot* s = used(owner, chunk);
+        return s ? s->start : nullptr;
     }
 
     /// Drops the levels of a hierarchy nobody can ask for again.
@@ -324,6 +314,18 @@ private:
         std::uint64_t last_used;
         std::shared_ptr<ChunkStart> start;
     };
+    /// The kept slot of chunk `chunk` of `owner`, marked used now, or null
+    /// (under mutex_; the clock ticks either way).
+    Slot* used(std::uint64_t owner, std::uint32_t chunk) {
+        ++clock_;
+        for (Slot& s : slots_)
+            if (s.owner == owner && s.chunk == chunk) {
+                s.last_used = clock_;
+                return &s;
+            }
+        return nullptr;
+    }
+
     std::mutex mutex_;
     std::vector<Slot> slots_;
     std::uint64_t clock_ = 0;
@@ -356,7 +358,7 @@ public:
                 return detail::band_of_roots(below->patch(), {root});
             return tile(parent_root)->tile.band_of_child(root);
         };
-        context.base_start = [this](std::uint32_t face) {
+        context.base_start = [this](std::uint32_t face) -> std::optional<detail::Patch> {
             // Cut from its chunk's level 1 where one is kept (every thread
             // shares them): a level of the face alone is a base patch of
             // about 49 faces split once.
@@ -365,7 +367,7 @@ public:
                 const std::lock_guard<std::mutex> hold(chunk->lock);
                 if (chunk->level) return detail::band_of_roots(chunk->level->patch(), {root_node(face)});
             }
-            return detail::chunk_level(context, &face, 1);
+            return std::nullopt;
         };
         tiles.surfaces.fetch_add(1, std::memory_order_relaxed);
     }

@@ -235,7 +235,9 @@ Patch Tile::band_at(int j) const {
     // and a border two rings wide suffices).
     Patch q;
     if (root_.level == 0) {
-        q = ctx_->base_start ? ctx_->base_start(root_.face) : chunk_level(*ctx_, &root_.face, 1);
+        std::optional<Patch> cut;
+        if (ctx_->base_start) cut = ctx_->base_start(root_.face);
+        q = cut ? std::move(*cut) : chunk_level(*ctx_, &root_.face, 1);
     } else {
         if (!ctx_->child_start)
             throw std::logic_error("subdivtrace tile: a child tile's later levels need their start (TileContext::child_start)");

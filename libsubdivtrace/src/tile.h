@@ -10,6 +10,7 @@
 #include <cstring>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "base_topology.h"
@@ -56,11 +57,11 @@ struct TileContext {
     /// has it (band_of_roots), or else the parent's band around the root at
     /// the root's level (Tile::band_of_child). Neither finished.
     std::function<Patch(const NodeId& root)> child_start;
-    /// Where base triangle `face`'s tile builds its later levels from: its
-    /// level 1 with its border (chunk_level of the face alone, or the same
-    /// triangles cut from a kept level of its chunk), not finished. Unset:
-    /// chunk_level of the face alone.
-    std::function<Patch(std::uint32_t face)> base_start;
+    /// Base triangle `face`'s level 1 with its border, not finished, cut
+    /// from a level of its chunk where one is kept: the same triangles and
+    /// bits as chunk_level of the face alone, where its tile's later levels
+    /// start otherwise (Tile::band_at). Unset or empty: that.
+    std::function<std::optional<Patch>(std::uint32_t face)> base_start;
 };
 
 /// The level below a parent tile's deepest one (Tile::below_deepest: its
